@@ -1,0 +1,26 @@
+"""Robot description: xacro processing and the ``<ros2_control>`` parser."""
+
+from .info import (
+    ComponentInfo,
+    HardwareInfo,
+    InterfaceInfo,
+    JointLimits,
+    MimicJoint,
+    SoftJointLimits,
+    TransmissionInfo,
+)
+from .parser import parse_ros2_control
+from .xacro import descriptions_root, process_xacro
+
+__all__ = [
+    "process_xacro",
+    "descriptions_root",
+    "parse_ros2_control",
+    "HardwareInfo",
+    "ComponentInfo",
+    "InterfaceInfo",
+    "JointLimits",
+    "SoftJointLimits",
+    "MimicJoint",
+    "TransmissionInfo",
+]

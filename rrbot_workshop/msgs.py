@@ -1,0 +1,336 @@
+"""Message dataclasses named like their ROS 2 counterparts.
+
+Field names are the ROS field names, so ``msg.points[0].positions`` reads as it would in rclpy.
+Times and durations (``stamp``, ``time_from_start``) are float seconds instead of
+``builtin_interfaces`` structs. The ROS package of each type is in its docstring.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+__all__ = [
+    "Header",
+    "Float64MultiArray",
+    "Float64",
+    "Bool",
+    "String",
+    "JointState",
+    "InterfaceValue",
+    "DynamicJointState",
+    "DynamicInterfaceGroupValues",
+    "JointTrajectoryPoint",
+    "JointTrajectory",
+    "JointTolerance",
+    "JointTrajectoryControllerState",
+    "JointControllerState",
+    "JointJog",
+    "MultiDOFCommand",
+    "SingleDOFState",
+    "MultiDOFStateStamped",
+    "Vector3",
+    "Quaternion",
+    "Point",
+    "Pose",
+    "Twist",
+    "TwistStamped",
+    "Wrench",
+    "WrenchStamped",
+    "PoseWithCovariance",
+    "TwistWithCovariance",
+    "Odometry",
+    "SetBoolRequest",
+    "SetBoolResponse",
+]
+
+
+def _nan() -> float:
+    return math.nan
+
+
+@dataclass
+class Header:
+    """``std_msgs/msg/Header``. ``stamp`` in [s]."""
+
+    stamp: float = 0.0
+    frame_id: str = ""
+
+
+@dataclass
+class Float64MultiArray:
+    """``std_msgs/msg/Float64MultiArray`` (layout omitted: always one flat array)."""
+
+    data: list[float] = field(default_factory=list)
+
+
+@dataclass
+class Float64:
+    """``std_msgs/msg/Float64``."""
+
+    data: float = 0.0
+
+
+@dataclass
+class Bool:
+    """``std_msgs/msg/Bool``."""
+
+    data: bool = False
+
+
+@dataclass
+class String:
+    """``std_msgs/msg/String``."""
+
+    data: str = ""
+
+
+@dataclass
+class JointState:
+    """``sensor_msgs/msg/JointState``: positions [rad], velocities [rad/s], efforts [N m]."""
+
+    header: Header = field(default_factory=Header)
+    name: list[str] = field(default_factory=list)
+    position: list[float] = field(default_factory=list)
+    velocity: list[float] = field(default_factory=list)
+    effort: list[float] = field(default_factory=list)
+
+
+@dataclass
+class InterfaceValue:
+    """``control_msgs/msg/InterfaceValue``: the interfaces of one prefix and their values."""
+
+    interface_names: list[str] = field(default_factory=list)
+    values: list[float] = field(default_factory=list)
+
+
+@dataclass
+class DynamicJointState:
+    """``control_msgs/msg/DynamicJointState``: every interface of every joint, sensor and GPIO."""
+
+    header: Header = field(default_factory=Header)
+    joint_names: list[str] = field(default_factory=list)
+    interface_values: list[InterfaceValue] = field(default_factory=list)
+
+
+@dataclass
+class DynamicInterfaceGroupValues:
+    """``control_msgs/msg/DynamicInterfaceGroupValues``: GPIO groups and their interface values."""
+
+    header: Header = field(default_factory=Header)
+    interface_groups: list[str] = field(default_factory=list)
+    interface_values: list[InterfaceValue] = field(default_factory=list)
+
+
+@dataclass
+class JointTrajectoryPoint:
+    """``trajectory_msgs/msg/JointTrajectoryPoint``. ``time_from_start`` in [s]."""
+
+    positions: list[float] = field(default_factory=list)
+    velocities: list[float] = field(default_factory=list)
+    accelerations: list[float] = field(default_factory=list)
+    effort: list[float] = field(default_factory=list)
+    time_from_start: float = 0.0
+
+
+@dataclass
+class JointTrajectory:
+    """``trajectory_msgs/msg/JointTrajectory``. ``header.stamp == 0`` means "start now"."""
+
+    header: Header = field(default_factory=Header)
+    joint_names: list[str] = field(default_factory=list)
+    points: list[JointTrajectoryPoint] = field(default_factory=list)
+
+
+@dataclass
+class JointTolerance:
+    """``control_msgs/msg/JointTolerance``: 0 = use the default, -1 = no check."""
+
+    name: str = ""
+    position: float = 0.0
+    velocity: float = 0.0
+    acceleration: float = 0.0
+
+
+@dataclass
+class JointTrajectoryControllerState:
+    """``control_msgs/msg/JointTrajectoryControllerState``."""
+
+    header: Header = field(default_factory=Header)
+    joint_names: list[str] = field(default_factory=list)
+    reference: JointTrajectoryPoint = field(default_factory=JointTrajectoryPoint)
+    feedback: JointTrajectoryPoint = field(default_factory=JointTrajectoryPoint)
+    error: JointTrajectoryPoint = field(default_factory=JointTrajectoryPoint)
+    output: JointTrajectoryPoint = field(default_factory=JointTrajectoryPoint)
+    desired: JointTrajectoryPoint = field(default_factory=JointTrajectoryPoint)
+    actual: JointTrajectoryPoint = field(default_factory=JointTrajectoryPoint)
+    multi_dof_joint_names: list[str] = field(default_factory=list)
+
+
+@dataclass
+class JointControllerState:
+    """``control_msgs/msg/JointControllerState`` (single-joint controller feedback)."""
+
+    header: Header = field(default_factory=Header)
+    set_point: float = 0.0
+    process_value: float = 0.0
+    process_value_dot: float = 0.0
+    error: float = 0.0
+    time_step: float = 0.0
+    command: float = 0.0
+    p: float = 0.0
+    i: float = 0.0
+    d: float = 0.0
+    i_clamp: float = 0.0
+    antiwindup: bool = False
+
+
+@dataclass
+class JointJog:
+    """``control_msgs/msg/JointJog``: displacements [rad] or velocities [rad/s] per joint; ``duration`` in [s]."""
+
+    header: Header = field(default_factory=Header)
+    joint_names: list[str] = field(default_factory=list)
+    displacements: list[float] = field(default_factory=list)
+    velocities: list[float] = field(default_factory=list)
+    duration: float = 0.0
+
+
+@dataclass
+class MultiDOFCommand:
+    """``control_msgs/msg/MultiDOFCommand``: references per degree of freedom (and their derivatives)."""
+
+    dof_names: list[str] = field(default_factory=list)
+    values: list[float] = field(default_factory=list)
+    values_dot: list[float] = field(default_factory=list)
+
+
+@dataclass
+class SingleDOFState:
+    """``control_msgs/msg/SingleDOFState``."""
+
+    name: str = ""
+    reference: float = field(default_factory=_nan)
+    feedback: float = field(default_factory=_nan)
+    feedback_dot: float = field(default_factory=_nan)
+    error: float = field(default_factory=_nan)
+    error_dot: float = field(default_factory=_nan)
+    time_step: float = 0.0
+    output: float = field(default_factory=_nan)
+
+
+@dataclass
+class MultiDOFStateStamped:
+    """``control_msgs/msg/MultiDOFStateStamped``."""
+
+    header: Header = field(default_factory=Header)
+    dof_states: list[SingleDOFState] = field(default_factory=list)
+
+
+@dataclass
+class Vector3:
+    """``geometry_msgs/msg/Vector3``."""
+
+    x: float = 0.0
+    y: float = 0.0
+    z: float = 0.0
+
+
+@dataclass
+class Point:
+    """``geometry_msgs/msg/Point`` in [m]."""
+
+    x: float = 0.0
+    y: float = 0.0
+    z: float = 0.0
+
+
+@dataclass
+class Quaternion:
+    """``geometry_msgs/msg/Quaternion`` (x, y, z, w)."""
+
+    x: float = 0.0
+    y: float = 0.0
+    z: float = 0.0
+    w: float = 1.0
+
+
+@dataclass
+class Pose:
+    """``geometry_msgs/msg/Pose``."""
+
+    position: Point = field(default_factory=Point)
+    orientation: Quaternion = field(default_factory=Quaternion)
+
+
+@dataclass
+class Twist:
+    """``geometry_msgs/msg/Twist``: linear [m/s], angular [rad/s]."""
+
+    linear: Vector3 = field(default_factory=Vector3)
+    angular: Vector3 = field(default_factory=Vector3)
+
+
+@dataclass
+class TwistStamped:
+    """``geometry_msgs/msg/TwistStamped``."""
+
+    header: Header = field(default_factory=Header)
+    twist: Twist = field(default_factory=Twist)
+
+
+@dataclass
+class Wrench:
+    """``geometry_msgs/msg/Wrench``: force [N], torque [N m]."""
+
+    force: Vector3 = field(default_factory=Vector3)
+    torque: Vector3 = field(default_factory=Vector3)
+
+
+@dataclass
+class WrenchStamped:
+    """``geometry_msgs/msg/WrenchStamped``."""
+
+    header: Header = field(default_factory=Header)
+    wrench: Wrench = field(default_factory=Wrench)
+
+
+@dataclass
+class PoseWithCovariance:
+    """``geometry_msgs/msg/PoseWithCovariance`` (row-major 6x6 covariance)."""
+
+    pose: Pose = field(default_factory=Pose)
+    covariance: list[float] = field(default_factory=lambda: [0.0] * 36)
+
+
+@dataclass
+class TwistWithCovariance:
+    """``geometry_msgs/msg/TwistWithCovariance``."""
+
+    twist: Twist = field(default_factory=Twist)
+    covariance: list[float] = field(default_factory=lambda: [0.0] * 36)
+
+
+@dataclass
+class Odometry:
+    """``nav_msgs/msg/Odometry``."""
+
+    header: Header = field(default_factory=Header)
+    child_frame_id: str = ""
+    pose: PoseWithCovariance = field(default_factory=PoseWithCovariance)
+    twist: TwistWithCovariance = field(default_factory=TwistWithCovariance)
+
+
+@dataclass
+class SetBoolRequest:
+    """``std_srvs/srv/SetBool`` request."""
+
+    data: bool = False
+
+
+@dataclass
+class SetBoolResponse:
+    """``std_srvs/srv/SetBool`` response."""
+
+    success: bool = False
+    message: str = ""
