@@ -10,11 +10,12 @@ from .info import (
     TransmissionInfo,
 )
 from .parser import parse_ros2_control
-from .xacro import descriptions_root, process_xacro
+from .xacro import descriptions_root, process_xacro, resolve_package_uri
 
 __all__ = [
     "process_xacro",
     "descriptions_root",
+    "resolve_package_uri",
     "parse_ros2_control",
     "HardwareInfo",
     "ComponentInfo",

@@ -174,6 +174,8 @@ class HardwareInfo:
         soft_limits: Soft limits per joint name.
         async_params: ``<properties><async .../>`` attributes, if given.
         original_xml: The ``<ros2_control>`` element's XML text.
+        robot_description: The whole URDF text the tag was parsed from, or ``""``. Simulated hardware
+            (``rrbot_workshop/MujocoSystem``) builds its physics model from it, as Gazebo's plugin does.
     """
 
     name: str
@@ -193,3 +195,4 @@ class HardwareInfo:
     soft_limits: dict[str, SoftJointLimits] = field(default_factory=dict)
     async_params: dict[str, str] = field(default_factory=dict)
     original_xml: str = ""
+    robot_description: str = ""

@@ -1,10 +1,218 @@
-"""Placeholder: xacro processing is being written."""
+"""Xacro processing without ROS: ``$(find <pkg>)`` and ``package://`` resolve to ``descriptions/<pkg>``.
+
+The ``xacro`` package does the work. Two of its habits need care outside ROS:
+
+* ``$(find pkg)`` asks ``ament_index_python`` for the package's share folder. We swap that lookup for one that
+  searches :func:`descriptions_root`, only while :func:`process_xacro` runs, then put the original back.
+* ``xacro.process`` calls ``sys.exit`` on errors; we drive ``xacro.process_file`` instead and turn every failure
+  into a :class:`~rrbot_workshop.exceptions.DescriptionError` that names the file.
+
+Xacro keeps module-level state (file stack, verbosity, substitution arguments); a lock serialises calls and every
+piece of state we touch is restored afterwards.
+"""
+
+from __future__ import annotations
+
+import logging
+import os
+import threading
+import xml.parsers.expat
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
+from typing import Any
+
+import xacro
+import xacro.substitution_args as _subst
+
+from ..exceptions import DescriptionError
+
+__all__ = ["descriptions_root", "process_xacro", "resolve_package_uri", "available_packages", "find_package"]
+
+logger = logging.getLogger(__name__)
+
+#: Environment variable that points the package lookup at another ``descriptions/`` folder.
+DESCRIPTIONS_ENV = "RRBOT_WORKSHOP_DESCRIPTIONS"
+
+_LOCK = threading.RLock()
 
 
 def descriptions_root() -> Path:
-    raise NotImplementedError
+    """Folder that holds one sub-folder per robot description package (``rrbot/``, ``diffbot/``, ...).
+
+    Returns:
+        ``$RRBOT_WORKSHOP_DESCRIPTIONS`` if set, else ``descriptions/`` at the repository root.
+    """
+    override = os.environ.get(DESCRIPTIONS_ENV)
+    if override:
+        return Path(override).expanduser().resolve()
+    return Path(__file__).resolve().parents[2] / "descriptions"
 
 
-def process_xacro(path, **mappings) -> str:
-    raise NotImplementedError
+def available_packages() -> list[str]:
+    """Names of the description packages found under :func:`descriptions_root`, sorted."""
+    root = descriptions_root()
+    if not root.is_dir():
+        return []
+    return sorted(p.name for p in root.iterdir() if p.is_dir() and not p.name.startswith((".", "_")))
+
+
+def find_package(package: str) -> Path:
+    """Folder of a description package, the stand-in for ROS' package share directory.
+
+    Args:
+        package: Package name, e.g. ``"rrbot"``.
+
+    Returns:
+        ``descriptions_root() / package``.
+
+    Raises:
+        DescriptionError: If there is no such folder; the message lists the packages that exist.
+    """
+    path = descriptions_root() / package
+    if not package or "/" in package or "\\" in package or not path.is_dir():
+        valid = ", ".join(available_packages()) or "none"
+        raise DescriptionError(
+            f"unknown package '{package}' (valid: {valid}); packages are the folders of {descriptions_root()}",
+            element="$(find)",
+            attribute=package,
+        )
+    return path
+
+
+def resolve_package_uri(uri: str, base: str | Path | None = None) -> Path:
+    """Turn a mesh or resource URI into a file path.
+
+    Args:
+        uri: ``package://<pkg>/<path>``, ``file://<abs path>``, or a plain path.
+        base: Folder for relative plain paths (default: the current directory).
+
+    Returns:
+        The file path (not checked for existence, so viewers can report missing meshes themselves).
+
+    Raises:
+        DescriptionError: If a ``package://`` URI names an unknown package or has no package name.
+    """
+    if uri.startswith("package://"):
+        rest = uri[len("package://"):]
+        package, _, relative = rest.partition("/")
+        if not package:
+            raise DescriptionError(f"URI '{uri}' has no package name (expected package://<pkg>/<path>)")
+        return find_package(package) / relative
+    if uri.startswith("file://"):
+        return Path(uri[len("file://"):])
+    path = Path(uri)
+    if not path.is_absolute() and base is not None:
+        path = Path(base) / path
+    return path
+
+
+def _mapping_value(value: Any) -> str:
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, Path):
+        return str(value)
+    return str(value)
+
+
+@contextmanager
+def _xacro_sandbox() -> Iterator[None]:
+    """Redirect ``$(find)`` to :func:`find_package` and restore every xacro global afterwards."""
+
+    def _eval_find(pkg: str) -> str:
+        return str(find_package(pkg))
+
+    saved_find = _subst._eval_find
+    saved_eval_find = _subst._eval_dict.get("find")
+    saved_verbosity = xacro.verbosity
+    saved_includes = list(xacro.all_includes)
+    saved_filestack = xacro.filestack
+    saved_macrostack = xacro.macrostack
+    with _LOCK:
+        _subst._eval_find = _eval_find  # type: ignore[assignment]
+        _subst._eval_dict["find"] = _eval_find
+        try:
+            yield
+        finally:
+            _subst._eval_find = saved_find  # type: ignore[assignment]
+            _subst._eval_dict["find"] = saved_eval_find
+            xacro.verbosity = saved_verbosity
+            xacro.all_includes[:] = saved_includes
+            xacro.filestack = saved_filestack
+            xacro.macrostack = saved_macrostack
+            xacro.substitution_args_context["arg"] = {}
+
+
+def _location() -> str:
+    """Where xacro was when it failed: the innermost file of its include stack, if known."""
+    stack = [f for f in (xacro.filestack or []) if f]
+    macros = [m.body.getAttribute("name") for m in (xacro.macrostack or [])]
+    parts = []
+    if stack:
+        parts.append(f"in file {stack[-1]}")
+    if macros:
+        parts.append("in macro " + " > ".join(macros))
+    return f" ({', '.join(parts)})" if parts else ""
+
+
+def _find_in_chain(err: BaseException, kind: type[BaseException]) -> BaseException | None:
+    """The first exception of type ``kind`` in ``err``'s chain, however xacro wrapped it."""
+    seen: set[int] = set()
+    current: BaseException | None = err
+    while current is not None and id(current) not in seen:
+        seen.add(id(current))
+        if isinstance(current, kind):
+            return current
+        nxt = getattr(current, "exc", None)
+        current = nxt if isinstance(nxt, BaseException) else (current.__cause__ or current.__context__)
+    return None
+
+
+def _as_description_error(err: Exception, file: Path) -> DescriptionError:
+    where = _location()
+    inner = _find_in_chain(err, DescriptionError)
+    if isinstance(inner, DescriptionError):
+        text = str(inner)
+        return DescriptionError(f"{text}{where}", source=str(file), element=inner.element, attribute=inner.attribute)
+    if _find_in_chain(err, xml.parsers.expat.ExpatError) is not None:
+        return DescriptionError(f"malformed XML: {err}{where}", source=str(file))
+    arg_error = _find_in_chain(err, _subst.ArgException)
+    if arg_error is not None:
+        name = str(arg_error).strip("'\"")
+        return DescriptionError(
+            f"undefined xacro argument '{name}' (pass it as a mapping or declare <xacro:arg name='{name}'/>){where}",
+            source=str(file),
+        )
+    text = " ".join(str(err).split()) or repr(err)
+    return DescriptionError(f"xacro failed: {text}{where}", source=str(file))
+
+
+def process_xacro(path: str | Path, **mappings: Any) -> str:
+    """Expand a xacro file into URDF text, as ``xacro file.xacro key:=value`` does.
+
+    Args:
+        path: The ``.xacro`` (or ``.urdf``) file.
+        **mappings: Xacro arguments (``prefix="r1_"``, ``use_mock_hardware=True``). Values that are not strings
+            are converted: booleans to ``"true"``/``"false"``, everything else with ``str()``.
+
+    Returns:
+        The URDF as an XML string.
+
+    Raises:
+        DescriptionError: If the file does not exist, xacro fails (bad XML, undefined property or argument,
+            failing ``xacro:fatal``), or ``$(find pkg)`` names an unknown package. The message names the file.
+    """
+    file = Path(path).expanduser()
+    if not file.is_file():
+        hint = "" if file.parent.is_dir() else f" (folder {file.parent} does not exist either)"
+        raise DescriptionError(f"xacro file not found{hint}", source=str(file))
+    file = file.resolve()
+    str_mappings = {str(k): _mapping_value(v) for k, v in mappings.items()}
+    with _xacro_sandbox():
+        try:
+            doc = xacro.process_file(str(file), mappings=str_mappings, verbosity=0)
+        except Exception as err:  # noqa: BLE001 - xacro raises many types; all become DescriptionError
+            raise _as_description_error(err, file) from err
+        text = doc.toprettyxml(indent="  ")
+    logger.debug("processed %s with %s", file, str_mappings)
+    return text

@@ -1,0 +1,57 @@
+"""Shared pytest hooks: conformance tallies printed at the end of the run.
+
+A conformance test records each case with the ``conformance_tally`` fixture:
+``conformance_tally("ros2_control parser", case, expected="accept", got="reject", note="...")``.
+The terminal summary then prints one line per suite, plus every case whose outcome differs from the reference.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+import pytest
+
+
+@dataclass(frozen=True)
+class _Outcome:
+    case: str
+    expected: str
+    got: str
+    note: str
+
+
+_TALLIES: dict[str, dict[str, _Outcome]] = {}
+
+
+@pytest.fixture(scope="session")
+def conformance_tally() -> Callable[..., None]:
+    """Record one conformance case: ``(suite, case, expected=..., got=..., note="")``."""
+
+    def record(suite: str, case: str, *, expected: str, got: str, note: str = "") -> None:
+        _TALLIES.setdefault(suite, {})[case] = _Outcome(case, expected, got, note)
+
+    return record
+
+
+def pytest_terminal_summary(terminalreporter: Any, exitstatus: int, config: pytest.Config) -> None:
+    """Print ``<suite> conformance: same/total cases as the reference (per expectation), differences``."""
+    for suite, outcomes in sorted(_TALLIES.items()):
+        same = [o for o in outcomes.values() if o.expected == o.got]
+        per_kind = []
+        for kind in sorted({o.expected for o in outcomes.values()}):
+            total = sum(1 for o in outcomes.values() if o.expected == kind)
+            matched = sum(1 for o in same if o.expected == kind)
+            word = f"{kind}ed" if kind in ("accept", "reject") else kind
+            per_kind.append(f"{word} {matched}/{total}")
+        terminalreporter.write_sep("-", f"{suite} conformance")
+        terminalreporter.write_line(
+            f"{suite} conformance: {len(same)}/{len(outcomes)} cases as the reference ({', '.join(per_kind)})"
+        )
+        for outcome in sorted(outcomes.values(), key=lambda o: o.case):
+            if outcome.expected != outcome.got:
+                note = f": {outcome.note}" if outcome.note else ""
+                terminalreporter.write_line(
+                    f"  differs: {outcome.case} (reference {outcome.expected}s, we {outcome.got}){note}"
+                )
