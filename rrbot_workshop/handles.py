@@ -181,6 +181,11 @@ class _Loaned:
         """Interface name, e.g. ``"position"``."""
         return self._handle.interface_name
 
+    @property
+    def data_type(self) -> str:
+        """Data type name of the borrowed handle, e.g. ``"double"``."""
+        return self._handle.data_type
+
     def get_name(self) -> str:
         return self._handle.name
 
