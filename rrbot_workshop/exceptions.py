@@ -23,6 +23,8 @@ __all__ = [
     "SwitchError",
     "PluginNotFound",
     "MessageError",
+    "CourseError",
+    "GradingError",
 ]
 
 
@@ -176,11 +178,15 @@ class SwitchError(ControllerError):
 
     Attributes:
         reasons: One line per problem found.
+        partial: True if some controllers did change state (a best-effort switch in which an
+            activation failed while the switch ran); False if the request was rejected as a whole.
     """
 
-    def __init__(self, reasons: Iterable[str]) -> None:
+    def __init__(self, reasons: Iterable[str], partial: bool = False) -> None:
         self.reasons = list(reasons)
-        super().__init__("switch rejected, no controller changed state:\n  - " + "\n  - ".join(self.reasons))
+        self.partial = partial
+        head = "switch partly failed:" if partial else "switch rejected, no controller changed state:"
+        super().__init__(head + "\n  - " + "\n  - ".join(self.reasons))
 
 
 class PluginNotFound(RRBotWorkshopError, KeyError):
@@ -202,3 +208,23 @@ class PluginNotFound(RRBotWorkshopError, KeyError):
 
 class MessageError(RRBotWorkshopError, ValueError):
     """A message was rejected; the text says which field and why."""
+
+
+class CourseError(RRBotWorkshopError, ValueError):
+    """A course request names a track, task or folder that does not exist.
+
+    Attributes:
+        what: The kind of thing at fault (``"track"``, ``"task"``, ``"folder"``).
+        value: The requested value.
+        available: The values that would have been valid.
+    """
+
+    def __init__(self, what: str, value: object, message: str, available: Iterable[object] | None = None) -> None:
+        self.what = what
+        self.value = value
+        self.available = sorted(str(a) for a in available) if available is not None else None
+        super().__init__(message + _valid(self.available))
+
+
+class GradingError(RRBotWorkshopError):
+    """A grader could not run to the end (it crashed or could not be collected); the text says why."""

@@ -223,7 +223,14 @@ class TopicBus:
     def topic_names_and_types(self) -> list[tuple[str, str]]:
         """Known topics with their message type names, sorted (``ros2 topic list -t``)."""
         topics = set(self._types) | set(self._latest) | {t for t, s in self._subs.items() if s}
-        return sorted((t, self._types[t].__name__ if t in self._types else "?") for t in topics)
+        def type_name(topic: str) -> str:
+            if topic in self._types:
+                return self._types[topic].__name__
+            if topic in self._latest:  # published from outside any node: the message tells its type
+                return type(self._latest[topic]).__name__
+            return "?"
+
+        return sorted((t, type_name(t)) for t in topics)
 
     # ----------------------------------------------------------------- services
     def create_service(

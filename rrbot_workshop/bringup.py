@@ -1,0 +1,376 @@
+"""Bring-up: the launch file of this library. Description + controllers YAML -> a running :class:`System`.
+
+A ros2_control launch file runs xacro, starts ``ros2_control_node`` with the URDF and the controllers
+YAML, and calls spawners. :func:`bringup` does the same in one call:
+
+1. the description (a ``.xacro``/``.urdf`` path, URDF text, or a package name under ``descriptions/``)
+   becomes URDF text, and its ``<ros2_control>`` tags become :class:`~rrbot_workshop.description.HardwareInfo`;
+2. the resource manager loads the hardware and brings each component to its initial state
+   (``hardware_components_initial_state`` of the controller manager, or ``hardware_initial_state``);
+3. the controller manager is created with the YAML's parameters;
+4. spawner semantics: controllers in ``spawn`` are loaded, configured and activated together in one
+   strict switch; those in ``inactive`` are loaded and configured only.
+
+The :class:`System` then runs on its clock: ``spin(seconds)`` advances simulated time cycle by cycle.
+"""
+
+from __future__ import annotations
+
+import itertools
+import logging
+import sys
+import types
+from collections.abc import Iterable, Mapping
+from pathlib import Path
+from types import TracebackType
+from typing import Any
+
+from .clock import Clock, WallClock, make_clock
+from .controller_manager import ControllerManager
+from .description.info import HardwareInfo
+from .exceptions import ControllerNotFound, DescriptionError, HardwareError, ParameterError
+from .lifecycle import State
+from .params import ControllersConfig, load_controllers_yaml
+from .resource_manager import ResourceManager
+from .topics import TopicBus
+
+__all__ = ["bringup", "System", "current_system", "get_system", "systems"]
+
+_log = logging.getLogger(__name__)
+
+_SYSTEMS: dict[str, System] = {}
+_CURRENT: list[str] = []
+_COUNTER = itertools.count(1)
+
+
+def systems() -> dict[str, System]:
+    """Running systems by name (shut-down ones are removed)."""
+    return dict(_SYSTEMS)
+
+
+def current_system() -> System | None:
+    """The system brought up last that is still running, or None."""
+    return _SYSTEMS[_CURRENT[-1]] if _CURRENT else None
+
+
+def get_system(name: str) -> System:
+    """The running system called ``name``.
+
+    Raises:
+        KeyError: If there is none; the message lists the running ones.
+    """
+    try:
+        return _SYSTEMS[name]
+    except KeyError:
+        raise KeyError(f"no running system '{name}' (running: {sorted(_SYSTEMS) or 'none'})") from None
+
+
+class System:
+    """A running robot: hardware, controllers, topic bus and clock.
+
+    Made by :func:`bringup`; usable as a context manager (``shutdown`` on exit).
+
+    Attributes:
+        name: System name (for ``%control --system``).
+        urdf: The processed URDF text.
+        hardware_infos: The parsed ``<ros2_control>`` tags.
+        bus: Topic bus.
+        resource_manager: The resource manager.
+        controller_manager: The controller manager.
+        clock: The loop's clock.
+    """
+
+    def __init__(
+        self,
+        name: str,
+        urdf: str,
+        hardware_infos: list[HardwareInfo],
+        controller_manager: ControllerManager,
+        clock: Clock,
+    ) -> None:
+        self.name = name
+        self.urdf = urdf
+        self.hardware_infos = hardware_infos
+        self.controller_manager = controller_manager
+        self.resource_manager = controller_manager.resource_manager
+        self.bus: TopicBus = controller_manager.bus
+        self.clock = clock
+        self._running = True
+
+    # ----------------------------------------------------------------- time
+    @property
+    def time(self) -> float:
+        """Current (simulated) time in [s]."""
+        return self.clock.now()
+
+    @property
+    def period(self) -> float:
+        """Control period in [s]."""
+        return self.clock.period
+
+    @property
+    def running(self) -> bool:
+        """False after :meth:`shutdown`."""
+        return self._running
+
+    def _check_running(self) -> None:
+        if not self._running:
+            raise HardwareError(f"system '{self.name}' is shut down; bring up a new one")
+
+    def spin_cycles(self, n: int) -> float:
+        """Run ``n`` control cycles; returns the time after the last one in [s].
+
+        Raises:
+            HardwareError: If the system is shut down.
+        """
+        self._check_running()
+        if isinstance(self.clock, WallClock):
+            self.clock.reset_pacing()
+        cm = self.controller_manager
+        period = self.clock.period
+        for _ in range(int(n)):
+            cm.update(self.clock.tick(), period)
+        return self.clock.now()
+
+    def spin(self, seconds: float) -> float:
+        """Run for ``seconds`` [s] of (simulated) time, rounded to whole cycles; returns the time in [s]."""
+        return self.spin_cycles(self.clock.cycles_for(seconds))
+
+    def spin_until(self, predicate: Any, timeout: float) -> bool:
+        """Run cycle by cycle until ``predicate()`` is true or ``timeout`` [s] of simulated time passes.
+
+        Returns:
+            Whether the predicate became true.
+        """
+        for _ in range(self.clock.cycles_for(timeout)):
+            if predicate():
+                return True
+            self.spin_cycles(1)
+        return bool(predicate())
+
+    # ----------------------------------------------------------------- topics and services
+    def publish(self, topic: str, msg: Any) -> None:
+        """Publish ``msg`` on ``topic`` (delivered at the start of the next cycle)."""
+        self.bus.publish(topic, msg)
+
+    def latest(self, topic: str) -> Any:
+        """Last message on ``topic``, or None."""
+        return self.bus.latest(topic)
+
+    def history(self, topic: str) -> list[Any]:
+        """Messages published on ``topic``, oldest first."""
+        return self.bus.history(topic)
+
+    def call_service(self, name: str, request: Any = None) -> Any:
+        """Call a service (e.g. ``"/controller_manager/list_controllers"``) and return its response."""
+        return self.bus.call_service(name, request if request is not None else {})
+
+    # ----------------------------------------------------------------- end
+    def shutdown(self) -> None:
+        """Deactivate and unload controllers, shut the hardware down. Safe to call more than once."""
+        if not self._running:
+            return
+        self._running = False
+        try:
+            self.controller_manager.shutdown()
+        finally:
+            self.resource_manager.shutdown_components()
+            _SYSTEMS.pop(self.name, None)
+            if self.name in _CURRENT:
+                _CURRENT.remove(self.name)
+
+    def __enter__(self) -> System:
+        return self
+
+    def __exit__(
+        self, exc_type: type[BaseException] | None, exc: BaseException | None, tb: TracebackType | None
+    ) -> None:
+        self.shutdown()
+
+    def __repr__(self) -> str:
+        state = "running" if self._running else "shut down"
+        return (
+            f"System({self.name!r}, {state}, t={self.time:.3f} s, hardware={self.resource_manager.component_names()}, "
+            f"controllers={list(self.controller_manager.controllers)})"
+        )
+
+
+# ===================================================================== resolving inputs
+def _description_to_urdf(description: str | Path, xacro_args: Mapping[str, Any]) -> tuple[str, str | None, str]:
+    """(URDF text, package name if known, source label)."""
+    from .description import descriptions_root, process_xacro
+
+    text = str(description)
+    if isinstance(description, str) and text.lstrip().startswith("<"):
+        return text, None, "<urdf string>"
+    path = Path(text)
+    package = None
+    if not path.suffix and "/" not in text and "\\" not in text:
+        root = descriptions_root()
+        package = text
+        path = root / text / "urdf" / f"{text}.urdf.xacro"
+        if not path.exists():
+            valid = sorted(p.name for p in root.iterdir() if p.is_dir()) if root.is_dir() else []
+            raise DescriptionError(
+                f"description '{text}' is neither a file nor a package with urdf/{text}.urdf.xacro (packages: {valid})"
+            )
+    if not path.exists():
+        raise DescriptionError(f"description file '{path}' does not exist")
+    if package is None:
+        try:
+            rel = path.resolve().relative_to(descriptions_root().resolve())
+            package = rel.parts[0]
+        except (ValueError, IndexError):
+            package = None
+    if path.suffix == ".xacro":
+        return process_xacro(path, **dict(xacro_args)), package, str(path)
+    if xacro_args:
+        return process_xacro(path, **dict(xacro_args)), package, str(path)
+    return path.read_text(), package, str(path)
+
+
+def _controllers_config(controllers: Any, package: str | None) -> ControllersConfig:
+    if controllers is None:
+        return ControllersConfig()
+    if isinstance(controllers, ControllersConfig):
+        return controllers
+    if isinstance(controllers, Mapping):
+        return load_controllers_yaml(controllers)
+    text = str(controllers)
+    if "\n" in text:
+        return load_controllers_yaml(text)
+    path = Path(text)
+    if not path.exists() and package is not None and "/" not in text:
+        from .description import descriptions_root
+
+        candidate = descriptions_root() / package / "config" / text
+        if candidate.exists():
+            path = candidate
+        else:
+            config_dir = candidate.parent
+            valid = sorted(p.name for p in config_dir.glob("*.yaml")) if config_dir.is_dir() else []
+            raise ParameterError("controllers file", text, f"not found in {config_dir} (files there: {valid})")
+    if not path.exists():
+        raise ParameterError("controllers file", text, "does not exist (give a path, a file name under "
+                             "descriptions/<package>/config/, a mapping or YAML text)")
+    return load_controllers_yaml(path)
+
+
+def _initial_states(cfg: ControllersConfig, override: Mapping[str, Any] | None) -> dict[str, State]:
+    states: dict[str, State] = {}
+    section = cfg.manager_parameters.get("hardware_components_initial_state") or {}
+    if not isinstance(section, Mapping):
+        raise ParameterError("controller_manager", "hardware_components_initial_state", "must be a mapping")
+    for label in ("unconfigured", "inactive"):
+        names = section.get(label) or []
+        if not isinstance(names, list):
+            raise ParameterError(
+                "controller_manager", f"hardware_components_initial_state.{label}", "must be a list of component names"
+            )
+        for n in names:
+            states[str(n)] = State.from_label(label)
+    extra = set(section) - {"unconfigured", "inactive"}
+    if extra:
+        raise ParameterError(
+            "controller_manager", "hardware_components_initial_state",
+            f"has unknown key(s) {sorted(extra)} (valid: 'unconfigured', 'inactive')",
+        )
+    for n, label in (override or {}).items():
+        try:
+            states[n] = label if isinstance(label, State) else State.from_label(str(label))
+        except ValueError as exc:
+            raise HardwareError(f"hardware_initial_state of '{n}': {exc}") from None
+    return states
+
+
+# ===================================================================== bringup
+def bringup(
+    description: str | Path,
+    controllers: str | Path | Mapping[str, Any] | ControllersConfig | None = None,
+    xacro_args: Mapping[str, Any] | None = None,
+    spawn: Iterable[str] = (),
+    inactive: Iterable[str] = (),
+    clock: str | Clock = "sim",
+    hardware_initial_state: Mapping[str, str | State] | None = None,
+    name: str | None = None,
+) -> System:
+    """Build and start a system from a description and a controllers YAML.
+
+    Args:
+        description: ``.xacro``/``.urdf`` path, URDF text, or a package name under ``descriptions/``
+            (then ``urdf/<name>.urdf.xacro`` is used).
+        controllers: Controllers YAML: a path, a file name under ``descriptions/<package>/config/``,
+            YAML text, a mapping, or a :class:`ControllersConfig`. None: no controllers declared.
+        xacro_args: Xacro arguments (``{"use_mock_hardware": True}``).
+        spawn: Controllers to load, configure and activate (one strict switch for all).
+        inactive: Controllers to load and configure only.
+        clock: ``"sim"`` (deterministic, default), ``"wall"`` (paced to real time) or a clock object.
+        hardware_initial_state: Component name -> ``"unconfigured"``/``"inactive"``/``"active"``;
+            overrides ``hardware_components_initial_state`` from the YAML. Unlisted components become active.
+        name: System name for ``%control --system``; the robot name (plus a number if taken) by default.
+
+    Returns:
+        The running :class:`System` (it becomes the "current" one for the magics).
+
+    Raises:
+        DescriptionError: If the description cannot be found or parsed.
+        ParameterError: If the controllers YAML cannot be found or is malformed.
+        HardwareError: If hardware cannot be loaded, or an initial state names an unknown component.
+        ControllerNotFound: If a controller in ``spawn``/``inactive`` is not declared in the YAML.
+        ControllerError: If a controller fails to load, configure or activate.
+        SwitchError: If activating ``spawn`` is rejected.
+    """
+    from .description import parse_ros2_control
+
+    urdf, package, source = _description_to_urdf(description, xacro_args or {})
+    cfg = _controllers_config(controllers, package)
+    infos = parse_ros2_control(urdf, source=source)
+    spawn, inactive = list(spawn), list(inactive)
+    both = sorted(set(spawn) & set(inactive))
+    if both:
+        raise ParameterError("bringup", "spawn/inactive", f"{both} appear in both lists; choose one")
+    for ctrl in [*spawn, *inactive]:
+        if ctrl not in cfg.controller_types and "type" not in cfg.controller_parameters.get(ctrl, {}):
+            raise ControllerNotFound(ctrl, cfg.controller_types, what=f"declared in the controllers config ({cfg.source})")
+
+    the_clock = make_clock(clock, cfg.update_rate)
+    rm = ResourceManager(update_rate=cfg.update_rate, initial_states=_initial_states(cfg, hardware_initial_state))
+    rm.load_hardware_infos(infos)
+    cm = ControllerManager(rm, TopicBus(), cfg.update_rate, urdf, cfg, the_clock)
+    if name is None:
+        import re
+
+        match = re.search(r"<robot[^>]*\bname\s*=\s*[\"']([^\"']+)", urdf)
+        base = match.group(1) if match else "system"
+        name = base if base not in _SYSTEMS else f"{base}_{next(_COUNTER)}"
+        while name in _SYSTEMS:
+            name = f"{base}_{next(_COUNTER)}"
+    elif name in _SYSTEMS:
+        raise HardwareError(f"a system named '{name}' is already running; shut it down or pick another name")
+    system = System(name, urdf, infos, cm, the_clock)
+    try:
+        for ctrl in [*spawn, *inactive]:
+            cm.load_controller(ctrl)
+            cm.configure_controller(ctrl)
+        if spawn:
+            cm.switch_controllers(activate=spawn, strictness="strict")
+    except Exception:
+        system._running = True
+        system.shutdown()
+        raise
+    _SYSTEMS[name] = system
+    _CURRENT.append(name)
+    _log.info("brought up '%s': hardware %s, active %s", name, rm.component_names(), spawn)
+    return system
+
+
+class _CallableModule(types.ModuleType):
+    """``import rrbot_workshop.bringup`` binds the package attribute ``bringup`` to this module, which would
+    hide the function of the same name (``rw.bringup(...)``). Calling the module therefore calls the function."""
+
+    def __call__(self, *args: Any, **kwargs: Any) -> System:
+        return bringup(*args, **kwargs)
+
+
+sys.modules[__name__].__class__ = _CallableModule
+sys.modules[__name__].__wrapped__ = bringup  # type: ignore[attr-defined]  # inspect.signature shows bringup's

@@ -1,0 +1,163 @@
+"""%control and %topic print like ros2 control / ros2 topic, and report bad input without raising."""
+
+from __future__ import annotations
+
+import core_helpers  # noqa: F401  (registers the test plugins)
+import pytest
+
+from rrbot_workshop.bringup import bringup
+from rrbot_workshop.exceptions import MessageError
+from rrbot_workshop.magics import control, load_ipython_extension, message_from_dict, message_to_yaml, topic
+from rrbot_workshop.msgs import Float64MultiArray, JointTrajectory
+
+URDF = """<robot name="magic">
+  <link name="base"/><link name="l1"/>
+  <joint name="j1" type="revolute"><parent link="base"/><child link="l1"/>
+    <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+  <ros2_control name="magic_hw" type="system">
+    <hardware><plugin>test_hardware/TestSystem</plugin></hardware>
+    <joint name="j1"><command_interface name="position"/><state_interface name="position"/></joint>
+  </ros2_control>
+</robot>"""
+
+CONTROLLERS = {
+    "controller_manager": {"ros__parameters": {
+        "fwd": {"type": "test_controller/TestController"},
+        "other_fwd": {"type": "test_controller/TestController"},
+    }},
+    "fwd": {"ros__parameters": {"command_interfaces": ["j1/position"], "state_interfaces": ["j1/position"]}},
+    "other_fwd": {"ros__parameters": {"command_interfaces": ["j1/position"]}},
+}
+
+
+@pytest.fixture
+def system():  # noqa: ANN201
+    with bringup(URDF, CONTROLLERS, spawn=["fwd"], inactive=["other_fwd"], name="magic_test") as s:
+        yield s
+
+
+def _out(capsys: pytest.CaptureFixture[str]) -> str:
+    return capsys.readouterr().out
+
+
+def test_list_controllers_prints_name_type_state_columns(system, capsys) -> None:  # noqa: ANN001
+    control("list_controllers")
+    lines = _out(capsys).splitlines()
+    assert lines == [
+        "fwd       test_controller/TestController  active",
+        "other_fwd test_controller/TestController  inactive",
+    ]
+
+
+def test_list_controllers_verbose_shows_interfaces(system, capsys) -> None:  # noqa: ANN001
+    control("list_controllers -v")
+    out = _out(capsys)
+    assert "\tclaimed interfaces:\n\t\tj1/position" in out and "\trequired state interfaces:" in out
+
+
+def test_list_hardware_components(system, capsys) -> None:  # noqa: ANN001
+    control("list_hardware_components -v")
+    out = _out(capsys)
+    assert "Hardware Component 1\n\tname: magic_hw\n\ttype: system\n\tplugin name: test_hardware/TestSystem" in out
+    assert "\tstate: id=3 label=active" in out
+    assert "\t\tj1/position [available] [claimed]" in out and "\tstate interfaces\n\t\tj1/position [available]" in out
+
+
+def test_list_hardware_interfaces(system, capsys) -> None:  # noqa: ANN001
+    control("list_hardware_interfaces")
+    assert _out(capsys) == "command interfaces\n\tj1/position [available] [claimed]\nstate interfaces\n\tj1/position\n"
+
+
+def test_switch_controllers_and_error_message(system, capsys) -> None:  # noqa: ANN001
+    control("switch_controllers --activate other_fwd --strict")
+    out = _out(capsys)
+    assert out.startswith("Error: switch rejected") and "already claimed by 'fwd'" in out
+    control("switch_controllers --activate other_fwd --deactivate fwd --strict")
+    assert _out(capsys) == "Successfully switched controllers\n"
+    assert system.controller_manager.controllers["other_fwd"].state.label == "active"
+
+
+def test_load_set_state_unload(system, capsys) -> None:  # noqa: ANN001
+    control("unload_controller other_fwd")
+    control("load_controller other_fwd --set-state inactive")
+    control("set_controller_state other_fwd unconfigured")
+    assert _out(capsys).splitlines() == [
+        "Successfully unloaded controller other_fwd",
+        "Successfully loaded controller other_fwd",
+        "Successfully set controller other_fwd to inactive",
+        "Successfully set controller other_fwd to unconfigured",
+    ]
+
+
+def test_set_hardware_component_state(system, capsys) -> None:  # noqa: ANN001
+    control("set_hardware_component_state magic_hw inactive")
+    assert _out(capsys) == "Successfully set hardware component magic_hw to inactive\n"
+    control("set_hardware_component_state nope inactive")
+    assert "no hardware component named 'nope'" in _out(capsys)
+
+
+def test_view_controller_chains_prints_dot(system, capsys) -> None:  # noqa: ANN001
+    control("view_controller_chains")
+    assert _out(capsys).startswith("digraph controller_chains {")
+
+
+def test_list_controller_types(system, capsys) -> None:  # noqa: ANN001
+    control("list_controller_types")
+    assert "test_controller/TestChainableController" in _out(capsys)
+
+
+def test_unknown_verb_and_system_are_reported(system, capsys) -> None:  # noqa: ANN001
+    control("dance")
+    assert "invalid choice: 'dance'" in _out(capsys)
+    control("--system nope list_controllers")
+    assert "no running system 'nope'" in _out(capsys)
+    control("")
+    assert "needs a verb" in _out(capsys)
+
+
+def test_no_system_is_reported(capsys) -> None:  # noqa: ANN001
+    from rrbot_workshop import bringup as bringup_module
+
+    if bringup_module.current_system() is None:
+        control("list_controllers")
+        assert "no running system" in _out(capsys)
+    else:  # another test's system is alive; --system still works
+        control("--system nope list_controllers")
+        assert "no running system 'nope'" in _out(capsys)
+
+
+def test_topic_pub_then_echo(system, capsys) -> None:  # noqa: ANN001
+    topic('pub /cmd std_msgs/msg/Float64MultiArray "{data: [0.7, 1]}"')
+    assert "publishing #1: Float64MultiArray(data=[0.7, 1.0])" in _out(capsys)
+    topic("echo /cmd --once")
+    assert _out(capsys) == "data:\n- 0.7\n- 1.0\n---\n"
+    topic("list -t")
+    assert "/cmd [Float64MultiArray]" in _out(capsys)
+
+
+def test_topic_errors_are_reported(system, capsys) -> None:  # noqa: ANN001
+    topic("echo /silent")
+    assert "no message" in _out(capsys)
+    topic('pub /x std_msgs/msg/Nope "{}"')
+    assert "unknown message type" in _out(capsys)
+    topic('pub /x std_msgs/msg/Float64MultiArray "{datum: [1]}"')
+    assert "no field 'datum'" in _out(capsys)
+
+
+def test_message_from_dict_builds_nested_messages() -> None:
+    msg = message_from_dict(JointTrajectory, {"joint_names": ["j1"], "points": [{"positions": [1], "time_from_start": 2}]})
+    assert msg.points[0].positions == [1.0] and msg.points[0].time_from_start == 2.0
+    assert message_to_yaml(Float64MultiArray(data=[1.0])) == "data:\n- 1.0"
+    with pytest.raises(MessageError, match="mapping"):
+        message_from_dict(Float64MultiArray, [1, 2])
+
+
+def test_load_ipython_extension_registers_both_magics() -> None:
+    registered: list[tuple[str, str]] = []
+
+    class Shell:
+        def register_magic_function(self, fn, kind, name) -> None:  # noqa: ANN001
+            registered.append((kind, name))
+
+    load_ipython_extension(Shell())
+    assert registered == [("line", "control"), ("line", "topic")]

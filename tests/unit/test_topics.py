@@ -1,0 +1,111 @@
+"""Topic bus: name resolution, queued delivery, latest/history, types, services, nodes."""
+
+from __future__ import annotations
+
+import logging
+
+import pytest
+
+from rrbot_workshop.exceptions import MessageError
+from rrbot_workshop.msgs import Float64, Float64MultiArray, SetBoolRequest, SetBoolResponse, String
+from rrbot_workshop.topics import Node, TopicBus, resolve_name
+
+
+@pytest.mark.parametrize(
+    ("name", "node", "ns", "expected"),
+    [("~/commands", "fwd", "/", "/fwd/commands"), ("cmd", "fwd", "/", "/cmd"), ("cmd", "n", "/robot1", "/robot1/cmd"),
+     ("/abs", "n", "/robot1", "/abs"), ("~", "n", "/r", "/r/n")],
+)
+def test_resolve_name_like_ros2(name: str, node: str, ns: str, expected: str) -> None:
+    assert resolve_name(name, node, ns) == expected
+
+
+def test_resolve_name_errors() -> None:
+    with pytest.raises(MessageError, match="empty"):
+        resolve_name("")
+    with pytest.raises(MessageError, match="no node name"):
+        resolve_name("~/x")
+
+
+def test_publishing_queues_until_deliver() -> None:
+    bus = TopicBus()
+    got: list[float] = []
+    bus.create_subscription(Float64, "/x", lambda m: got.append(m.data))
+    bus.publish("/x", Float64(data=1.0))
+    assert got == [] and bus.latest("/x").data == 1.0
+    assert bus.deliver() == 1 and got == [1.0]
+    assert bus.deliver() == 0
+
+
+def test_history_is_bounded_and_clearable() -> None:
+    bus = TopicBus(history_depth=3)
+    for k in range(5):
+        bus.publish("/x", Float64(data=float(k)))
+    assert [m.data for m in bus.history("/x")] == [2.0, 3.0, 4.0]
+    bus.clear_history("/x")
+    assert bus.history("/x") == [] and bus.latest("/x").data == 4.0
+
+
+def test_topic_type_is_enforced() -> None:
+    bus = TopicBus()
+    pub = bus.create_publisher(Float64, "/x")
+    with pytest.raises(MessageError, match="Float64"):
+        bus.create_subscription(String, "/x", lambda m: None)
+    with pytest.raises(MessageError, match="got String"):
+        pub.publish(String(data="no"))
+    with pytest.raises(MessageError, match="carries Float64"):
+        bus.publish("/x", String(data="no"))
+
+
+def test_failing_subscriber_is_logged_and_others_still_run(caplog: pytest.LogCaptureFixture) -> None:
+    bus = TopicBus()
+    got: list[str] = []
+
+    def bad(msg: String) -> None:
+        raise RuntimeError("boom")
+
+    bus.create_subscription(String, "/s", bad, owner="bad_node")
+    bus.create_subscription(String, "/s", lambda m: got.append(m.data))
+    bus.publish("/s", String(data="hi"))
+    with caplog.at_level(logging.ERROR):
+        bus.deliver()
+    assert got == ["hi"] and "bad_node" in caplog.text
+
+
+def test_subscription_destroy_and_counts() -> None:
+    bus = TopicBus()
+    sub = bus.create_subscription(Float64, "/x", lambda m: None)
+    pub = bus.create_publisher(Float64, "/x")
+    assert pub.get_subscription_count() == 1 and sub.topic_name == "/x"
+    sub.destroy()
+    assert pub.get_subscription_count() == 0
+
+
+def test_topic_names_and_types_include_externally_published_topics() -> None:
+    bus = TopicBus()
+    bus.create_publisher(Float64, "/typed")
+    bus.publish("/free", Float64MultiArray(data=[1.0]))
+    assert bus.topic_names_and_types() == [("/free", "Float64MultiArray"), ("/typed", "Float64")]
+
+
+def test_services_call_check_type_and_refuse_duplicates() -> None:
+    bus = TopicBus()
+    bus.create_service("/set", lambda req: SetBoolResponse(success=req.data), SetBoolRequest)
+    assert bus.call_service("/set", SetBoolRequest(data=True)).success
+    with pytest.raises(MessageError, match="takes SetBoolRequest"):
+        bus.call_service("/set", String())
+    with pytest.raises(MessageError, match="already exists"):
+        bus.create_service("/set", lambda req: None)
+    with pytest.raises(MessageError, match="no service '/nope'"):
+        bus.call_service("/nope", None)
+
+
+def test_node_expands_names_and_destroy_removes_its_endpoints() -> None:
+    bus = TopicBus()
+    node = Node("fwd", bus, clock=lambda: 1.5)
+    node.create_subscription(Float64, "~/commands", lambda m: None)
+    node.create_service(SetBoolRequest, "~/enable", lambda r: SetBoolResponse())
+    assert bus.subscription_count("/fwd/commands") == 1 and "/fwd/enable" in bus.service_names()
+    assert node.now() == 1.5 and node.get_fully_qualified_name() == "/fwd"
+    node.destroy()
+    assert bus.subscription_count("/fwd/commands") == 0 and bus.service_names() == []
