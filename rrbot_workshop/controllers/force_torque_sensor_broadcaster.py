@@ -1,0 +1,110 @@
+"""``force_torque_sensor_broadcaster/ForceTorqueSensorBroadcaster``: six state interfaces -> ``~/wrench``.
+
+Either ``sensor_name`` is set (interfaces ``<sensor_name>/force.x`` ... ``<sensor_name>/torque.z``, as the
+ros2_control ``ForceTorqueSensor`` semantic component names them), or some of
+``interface_names.force.{x,y,z}`` / ``interface_names.torque.{x,y,z}`` give full interface names; an
+axis without an interface is published as NaN. ``frame_id`` is required.
+
+Differences from Jazzy: a configuration mistake returns FAILURE (the controller stays unconfigured and
+can be fixed and configured again) where Jazzy returns ERROR; the optional filter chain and
+``~/wrench_filtered`` are not provided.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import ClassVar
+
+from ..lifecycle import CallbackReturn, ReturnType, State
+from ..msgs import Header, Vector3, Wrench, WrenchStamped
+from ..topics import Publisher
+from .base import ControllerInterface, InterfaceConfiguration, InterfaceConfigurationType
+
+__all__ = ["ForceTorqueSensorBroadcaster", "AXES"]
+
+#: The six axes in message order: (field group, axis).
+AXES = (("force", "x"), ("force", "y"), ("force", "z"), ("torque", "x"), ("torque", "y"), ("torque", "z"))
+
+
+def _axis_parameters() -> str:
+    lines = []
+    for group in ("force", "torque"):
+        lines.append(f"    {group}:")
+        for axis in "xyz":
+            lines += [
+                f"      {axis}:",
+                "        type: string",
+                '        default_value: ""',
+                f'        description: "State interface with the {group} along {axis}."',
+            ]
+    return "\n".join(lines)
+
+
+class ForceTorqueSensorBroadcaster(ControllerInterface):
+    """Publishes a force-torque sensor's state interfaces as ``geometry_msgs/WrenchStamped``."""
+
+    PARAMETERS: ClassVar[str | None] = f"""
+force_torque_sensor_broadcaster:
+  frame_id:
+    type: string
+    default_value: ""
+    description: "Frame of the sensor; header.frame_id of ~/wrench."
+    validation:
+      not_empty<>: []
+  sensor_name:
+    type: string
+    default_value: ""
+    description: "Sensor name; its interfaces are <sensor_name>/force.x ... torque.z."
+  interface_names:
+{_axis_parameters()}
+"""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self._names: list[str | None] = [None] * 6  # full interface name per axis, None = absent
+        self._frame_id = ""
+        self._pub: Publisher | None = None
+
+    def on_configure(self, previous_state: State) -> CallbackReturn:
+        """Work out the six interface names; create ``~/wrench``."""
+        assert self.param_listener is not None
+        params = self.param_listener.get_params()
+        given = [getattr(getattr(params.interface_names, g), a) for g, a in AXES]
+        if not params.sensor_name and not any(given):
+            self.logger.error(
+                "'%s': set parameter 'sensor_name' or at least one of 'interface_names.[force|torque].[x|y|z]'",
+                self.get_name())
+            return CallbackReturn.FAILURE
+        if params.sensor_name and any(given):
+            self.logger.error(
+                "'%s': parameters 'sensor_name' and 'interface_names.[force|torque].[x|y|z]' cannot be used "
+                "together; choose one", self.get_name())
+            return CallbackReturn.FAILURE
+        if params.sensor_name:
+            self._names = [f"{params.sensor_name}/{g}.{a}" for g, a in AXES]
+        else:
+            self._names = [n or None for n in given]
+        self._frame_id = params.frame_id
+        if self._pub is None:
+            self._pub = self.get_node().create_publisher(WrenchStamped, "~/wrench")
+        return CallbackReturn.SUCCESS
+
+    def state_interface_configuration(self) -> InterfaceConfiguration:
+        """The configured axes' interfaces, in the order force x, y, z, torque x, y, z."""
+        return InterfaceConfiguration(InterfaceConfigurationType.INDIVIDUAL, [n for n in self._names if n])
+
+    def update(self, time: float, period: float) -> ReturnType:
+        """Publish the wrench, stamped with ``time``."""
+        values = [math.nan] * 6
+        loans = iter(self.state_interfaces)
+        for k, name in enumerate(self._names):
+            if name:
+                loan = next(loans, None)
+                if loan is not None:
+                    values[k] = float(loan.get_value())
+        if self._pub is not None:
+            self._pub.publish(WrenchStamped(
+                header=Header(stamp=time, frame_id=self._frame_id),
+                wrench=Wrench(force=Vector3(*values[:3]), torque=Vector3(*values[3:])),
+            ))
+        return ReturnType.OK

@@ -1,0 +1,233 @@
+"""``forward_command_controller``: write the numbers of a ``Float64MultiArray`` straight to command interfaces.
+
+Two controllers and three aliases, as in ros2_controllers (Jazzy):
+
+* ``ForwardCommandController``: parameters ``joints`` and ``interface_name``; one command interface per
+  joint, ``<joint>/<interface_name>``;
+* ``MultiInterfaceForwardCommandController``: parameters ``joint`` and ``interface_names``; several
+  interfaces of one joint;
+* ``JointGroupPositionController`` / ``JointGroupVelocityController`` / ``JointGroupEffortController``
+  (packages ``position_controllers``, ``velocity_controllers``, ``effort_controllers``): a
+  ``ForwardCommandController`` whose ``interface_name`` is fixed.
+
+Commands arrive on ``~/commands``. The buffer starts as NaN on activation and deactivation; while every
+entry is NaN nothing is written.
+
+Deliberate difference from Jazzy: a message of the wrong size is rejected (and logged with the expected
+and received sizes) in the subscription callback. Jazzy stores it and then returns ERROR from ``update``,
+which makes the controller manager deactivate the controller; here the controller keeps running with
+the last valid command. Messages with non-finite values are dropped, as in Jazzy.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import ClassVar
+
+from ..lifecycle import CallbackReturn, ReturnType, State
+from ..msgs import Float64MultiArray
+from ..topics import Subscription
+from .base import ControllerInterface, InterfaceConfiguration, InterfaceConfigurationType
+
+__all__ = [
+    "ForwardControllersBase",
+    "ForwardCommandController",
+    "MultiInterfaceForwardCommandController",
+    "JointGroupPositionController",
+    "JointGroupVelocityController",
+    "JointGroupEffortController",
+]
+
+
+class ForwardControllersBase(ControllerInterface):
+    """Shared logic: subscription, NaN buffer, writing. Subclasses fill :attr:`command_interface_types`.
+
+    Attributes:
+        command_interface_types: Full names of the command interfaces, in the order of the array.
+        rejected_messages: Number of messages dropped (wrong size or non-finite values).
+    """
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.command_interface_types: list[str] = []
+        self.rejected_messages = 0
+        self._command: list[float] = []
+        self._subscription: Subscription | None = None
+
+    def read_parameters(self) -> bool:
+        """Fill :attr:`command_interface_types` from the parameters; False (logged) if they are unusable."""
+        raise NotImplementedError
+
+    def command_interface_configuration(self) -> InterfaceConfiguration:
+        """The configured command interfaces, individually."""
+        return InterfaceConfiguration(InterfaceConfigurationType.INDIVIDUAL, list(self.command_interface_types))
+
+    def state_interface_configuration(self) -> InterfaceConfiguration:
+        """No state interfaces."""
+        return InterfaceConfiguration(InterfaceConfigurationType.NONE)
+
+    def on_configure(self, previous_state: State) -> CallbackReturn:
+        """Read parameters and subscribe to ``~/commands``."""
+        if not self.read_parameters():
+            return CallbackReturn.FAILURE
+        self._command = [math.nan] * len(self.command_interface_types)
+        if self._subscription is None:
+            self._subscription = self.get_node().create_subscription(
+                Float64MultiArray, "~/commands", self._on_commands
+            )
+        return CallbackReturn.SUCCESS
+
+    def on_cleanup(self, previous_state: State) -> CallbackReturn:
+        """Drop the subscription."""
+        if self._subscription is not None:
+            self._subscription.destroy()
+            self._subscription = None
+        return CallbackReturn.SUCCESS
+
+    def _on_commands(self, msg: Float64MultiArray) -> None:
+        expected = len(self.command_interface_types)
+        if len(msg.data) != expected:
+            self.rejected_messages += 1
+            self.logger.error(
+                "'%s': rejected a command on ~/commands: field 'data' has %d values, expected %d (one per "
+                "interface in %s)", self.get_name(), len(msg.data), expected, self.command_interface_types,
+            )
+            return
+        bad = [i for i, v in enumerate(msg.data) if not _is_finite(v)]
+        if bad:
+            self.rejected_messages += 1
+            self.logger.warning(
+                "'%s': dropped a command on ~/commands: field 'data' has non-finite values at indices %s (%s)",
+                self.get_name(), bad, [msg.data[i] for i in bad],
+            )
+            return
+        self._command = [float(v) for v in msg.data]
+
+    def on_activate(self, previous_state: State) -> CallbackReturn:
+        """Start from an empty (NaN) command: nothing is written until a message arrives."""
+        self._command = [math.nan] * len(self.command_interface_types)
+        return CallbackReturn.SUCCESS
+
+    def on_deactivate(self, previous_state: State) -> CallbackReturn:
+        """Forget the last command."""
+        self._command = [math.nan] * len(self.command_interface_types)
+        return CallbackReturn.SUCCESS
+
+    def update(self, time: float, period: float) -> ReturnType:
+        """Write the latest command, unless none has arrived since activation."""
+        if all(math.isnan(v) for v in self._command):
+            return ReturnType.OK
+        for loan, value in zip(self.command_interfaces, self._command, strict=False):
+            loan.set_value(value)
+        return ReturnType.OK
+
+
+def _is_finite(value: object) -> bool:
+    return isinstance(value, int | float) and not isinstance(value, bool) and math.isfinite(value)
+
+
+class ForwardCommandController(ForwardControllersBase):
+    """One command interface per joint: ``<joint>/<interface_name>``."""
+
+    PARAMETERS: ClassVar[str | None] = """
+forward_command_controller:
+  joints:
+    type: string_array
+    default_value: []
+    description: "Joints to command, in the order of the data array."
+    validation:
+      not_empty<>: []
+  interface_name:
+    type: string
+    default_value: ""
+    description: "Command interface written on every joint."
+    validation:
+      not_empty<>: []
+"""
+
+    def read_parameters(self) -> bool:
+        assert self.param_listener is not None
+        params = self.param_listener.get_params()
+        self.command_interface_types = [f"{j}/{params.interface_name}" for j in params.joints]
+        return True
+
+
+class MultiInterfaceForwardCommandController(ForwardControllersBase):
+    """Several command interfaces of one joint: ``<joint>/<interface_names[i]>``."""
+
+    PARAMETERS: ClassVar[str | None] = """
+multi_interface_forward_command_controller:
+  joint:
+    type: string
+    default_value: ""
+    description: "The joint to command."
+    validation:
+      not_empty<>: []
+  interface_names:
+    type: string_array
+    default_value: []
+    description: "Command interfaces of the joint, in the order of the data array."
+    validation:
+      not_empty<>: []
+"""
+
+    def read_parameters(self) -> bool:
+        assert self.param_listener is not None
+        params = self.param_listener.get_params()
+        self.command_interface_types = [f"{params.joint}/{i}" for i in params.interface_names]
+        return True
+
+
+def _group_parameters(interface: str) -> str:
+    return f"""
+forward_command_controller:
+  joints:
+    type: string_array
+    default_value: []
+    description: "Joints to command, in the order of the data array."
+    validation:
+      not_empty<>: []
+  interface_name:
+    type: string
+    default_value: "{interface}"
+    description: "Fixed to '{interface}' by this controller type."
+"""
+
+
+class _JointGroupController(ForwardCommandController):
+    """A ``ForwardCommandController`` whose ``interface_name`` is fixed by the class."""
+
+    INTERFACE: ClassVar[str] = ""
+
+    def on_init(self) -> CallbackReturn:
+        """Force ``interface_name`` (a value given in the YAML is overridden, as in ros2_controllers)."""
+        node = self.get_node()
+        given = node.get_parameter("interface_name")
+        if given not in (None, self.INTERFACE):
+            self.logger.warning(
+                "'%s': parameter 'interface_name' = '%s' is ignored; %s always uses '%s'",
+                self.get_name(), given, type(self).__name__, self.INTERFACE,
+            )
+        node.set_parameters({"interface_name": self.INTERFACE})
+        return CallbackReturn.SUCCESS
+
+
+class JointGroupPositionController(_JointGroupController):
+    """``position_controllers/JointGroupPositionController``: forwards positions [rad or m]."""
+
+    INTERFACE = "position"
+    PARAMETERS = _group_parameters("position")
+
+
+class JointGroupVelocityController(_JointGroupController):
+    """``velocity_controllers/JointGroupVelocityController``: forwards velocities [rad/s or m/s]."""
+
+    INTERFACE = "velocity"
+    PARAMETERS = _group_parameters("velocity")
+
+
+class JointGroupEffortController(_JointGroupController):
+    """``effort_controllers/JointGroupEffortController``: forwards efforts [N m or N]."""
+
+    INTERFACE = "effort"
+    PARAMETERS = _group_parameters("effort")

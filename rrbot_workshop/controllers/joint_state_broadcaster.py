@@ -1,0 +1,274 @@
+"""``joint_state_broadcaster/JointStateBroadcaster``: state interfaces -> ``/joint_states``.
+
+The broadcaster claims no command interface. It reads state interfaces (all of them, unless both
+``joints`` and ``interfaces`` are given) and publishes two messages every cycle:
+
+* ``/joint_states`` (``sensor_msgs/JointState``): one entry per joint that has a ``position``,
+  ``velocity`` or ``effort`` interface (after ``map_interface_to_joint_state`` renames custom names);
+  a field the joint does not have is NaN;
+* ``/dynamic_joint_states`` (``control_msgs/DynamicJointState``): every interface of every prefix
+  (joints, sensors, GPIOs).
+
+Rules follow the Jazzy release (ros2_controllers 4.x):
+
+* ``joints`` or ``interfaces`` empty -> every state interface (``ALL``).
+* With ``use_urdf_to_filter`` (default) and a parsable robot description, ``/joint_states`` keeps only
+  the URDF's non-fixed joints, in alphabetical order (Jazzy walks urdfdom's ``std::map`` of joints).
+  Without a description the names follow the order of the state interfaces.
+* ``extra_joints`` are appended with position, velocity and effort 0.
+"""
+
+from __future__ import annotations
+
+import math
+import xml.etree.ElementTree as ET
+from typing import Any
+
+from ..lifecycle import CallbackReturn, ReturnType, State
+from ..msgs import DynamicJointState, Header, InterfaceValue, JointState
+from ..topics import Publisher
+from .base import ControllerInterface, InterfaceConfiguration, InterfaceConfigurationType
+
+__all__ = ["JointStateBroadcaster", "urdf_movable_joints"]
+
+_JOINT_STATE_FIELDS = ("position", "velocity", "effort")
+
+
+def urdf_movable_joints(urdf: str) -> tuple[set[str], list[str]] | None:
+    """Joints of a URDF: every joint name, and the non-fixed ones in alphabetical order.
+
+    Args:
+        urdf: URDF text.
+
+    Returns:
+        ``(all_joint_names, sorted_non_fixed_joint_names)``, or None if the text is empty or not a
+        ``<robot>`` document.
+    """
+    if not urdf.strip():
+        return None
+    try:
+        root = ET.fromstring(urdf)
+    except ET.ParseError:
+        return None
+    if root.tag != "robot":
+        return None
+    every: set[str] = set()
+    movable: list[str] = []
+    for joint in root.findall("joint"):
+        name = joint.get("name")
+        if not name:
+            continue
+        every.add(name)
+        if joint.get("type", "") != "fixed":
+            movable.append(name)
+    return every, sorted(movable)
+
+
+class JointStateBroadcaster(ControllerInterface):
+    """Publishes ``/joint_states`` and ``/dynamic_joint_states`` from state interfaces."""
+
+    PARAMETERS = """
+joint_state_broadcaster:
+  use_local_topics:
+    type: bool
+    default_value: false
+    description: "Publish on ~/joint_states and ~/dynamic_joint_states instead of the global topics."
+  joints:
+    type: string_array
+    default_value: []
+    description: "Joints to publish; used only together with 'interfaces'."
+  extra_joints:
+    type: string_array
+    default_value: []
+    description: "Joints added to the messages with position, velocity and effort 0."
+  interfaces:
+    type: string_array
+    default_value: []
+    description: "Interfaces to publish; used only together with 'joints'."
+  map_interface_to_joint_state:
+    position:
+      type: string
+      default_value: "position"
+      description: "State interface published in JointState.position."
+    velocity:
+      type: string
+      default_value: "velocity"
+      description: "State interface published in JointState.velocity."
+    effort:
+      type: string
+      default_value: "effort"
+      description: "State interface published in JointState.effort."
+  use_urdf_to_filter:
+    type: bool
+    default_value: true
+    description: "Keep only the robot description's non-fixed joints in /joint_states."
+  publish_dynamic_joint_states:
+    type: bool
+    default_value: true
+    description: "Publish /dynamic_joint_states (Jazzy default: true)."
+  frame_id:
+    type: string
+    default_value: "base_link"
+    description: "header.frame_id of the published messages."
+"""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self._joints: list[str] = []
+        self._interfaces: list[str] = []
+        self._use_urdf_to_filter = True
+        self._extra_joints: list[str] = []
+        self._frame_id = ""
+        self._map: dict[str, str] = {}
+        self._urdf: tuple[set[str], list[str]] | None = None
+        self._joint_state_pub: Publisher | None = None
+        self._dynamic_pub: Publisher | None = None
+        self.joint_names: list[str] = []
+        # per claimed state interface: (prefix, mapped name) the value goes to, or None if skipped
+        self._targets: list[tuple[str, str] | None] = []
+        self._values: dict[str, dict[str, float]] = {}
+        self._dynamic_layout: list[tuple[str, list[str]]] = []
+
+    def _use_all_available_interfaces(self) -> bool:
+        return not self._joints or not self._interfaces
+
+    def state_interface_configuration(self) -> InterfaceConfiguration:
+        """``ALL`` when ``joints`` or ``interfaces`` is empty, else joints x interfaces (joint-major)."""
+        if self._use_all_available_interfaces():
+            return InterfaceConfiguration(InterfaceConfigurationType.ALL)
+        names = [f"{j}/{i}" for j in self._joints for i in self._interfaces]
+        return InterfaceConfiguration(InterfaceConfigurationType.INDIVIDUAL, names)
+
+    def on_configure(self, previous_state: State) -> CallbackReturn:
+        """Read parameters, create the publishers and parse the robot description."""
+        assert self.param_listener is not None
+        params = self.param_listener.get_params()
+        self._joints = list(params.joints)
+        self._interfaces = list(params.interfaces)
+        if self._use_all_available_interfaces():
+            self.logger.info("'joints' or 'interfaces' is empty: every available state interface is published")
+            self._joints, self._interfaces = [], []
+        self._extra_joints = list(params.extra_joints)
+        self._use_urdf_to_filter = bool(params.use_urdf_to_filter)
+        self._frame_id = params.frame_id
+        if not self._frame_id:
+            self.logger.warning("'frame_id' is empty: the messages carry no frame")
+
+        # custom interface name -> JointState field; a standard name listed in 'interfaces' keeps its meaning
+        self._map = {}
+        mapping = params.map_interface_to_joint_state
+        for field_name in _JOINT_STATE_FIELDS:
+            custom = getattr(mapping, field_name)
+            if field_name in self._interfaces and custom != field_name:
+                self.logger.warning(
+                    "map_interface_to_joint_state.%s = '%s' is not applied: '%s' itself is listed in 'interfaces'",
+                    field_name, custom, field_name,
+                )
+                self._map[field_name] = field_name
+            else:
+                self._map[custom] = field_name
+
+        node = self.get_node()
+        prefix = "~/" if params.use_local_topics else ""
+        self._joint_state_pub = node.create_publisher(JointState, prefix + "joint_states")
+        self._dynamic_pub = (
+            node.create_publisher(DynamicJointState, prefix + "dynamic_joint_states")
+            if params.publish_dynamic_joint_states
+            else None
+        )
+
+        self._urdf = urdf_movable_joints(self.get_robot_description())
+        if self._urdf is None and self._use_urdf_to_filter and not self._joints:
+            self.logger.warning(
+                "no parsable robot description: /joint_states lists every prefix with position, velocity "
+                "or effort, unfiltered"
+            )
+        return CallbackReturn.SUCCESS
+
+    def on_activate(self, previous_state: State) -> CallbackReturn:
+        """Work out the joint names and the message layout from the assigned state interfaces."""
+        if not self.state_interfaces:
+            self.logger.error("'%s': no state interfaces to publish; it cannot activate", self.get_name())
+            return CallbackReturn.ERROR
+        self._values = {}
+        self._targets = []
+        layout: dict[str, list[str]] = {}
+        for loan in self.state_interfaces:
+            prefix, itf = loan.prefix_name, loan.interface_name
+            layout.setdefault(prefix, []).append(itf)
+            if getattr(loan, "data_type", "double") not in ("double", "float32"):
+                self._targets.append(None)  # JointState fields are doubles
+                continue
+            mapped = self._map.get(itf, itf)
+            self._values.setdefault(prefix, {})[mapped] = math.nan
+            self._targets.append((prefix, mapped))
+        self._dynamic_layout = list(layout.items())
+
+        # Jazzy walks the interfaces backwards and reverses the result: each name sits at its last occurrence.
+        names: list[str] = []
+        filter_with_urdf = self._use_urdf_to_filter and not self._joints and self._urdf is not None
+        for target in reversed(self._targets):
+            if target is None:
+                continue
+            prefix, mapped = target
+            if mapped not in _JOINT_STATE_FIELDS or prefix in names:
+                continue
+            if filter_with_urdf and self._urdf is not None and prefix not in self._urdf[0]:
+                continue
+            names.append(prefix)
+        names.reverse()
+        if filter_with_urdf and self._urdf is not None:
+            names = [j for j in self._urdf[1] if j in names]
+        for extra in self._extra_joints:
+            if extra not in self._values and extra not in layout:
+                self._values[extra] = {f: 0.0 for f in _JOINT_STATE_FIELDS}
+                self._dynamic_layout.append((extra, list(_JOINT_STATE_FIELDS)))
+                names.append(extra)
+        self.joint_names = names
+        return CallbackReturn.SUCCESS
+
+    def on_deactivate(self, previous_state: State) -> CallbackReturn:
+        """Forget the layout; it is rebuilt on the next activation."""
+        self.joint_names = []
+        self._values = {}
+        self._targets = []
+        self._dynamic_layout = []
+        return CallbackReturn.SUCCESS
+
+    def update(self, time: float, period: float) -> ReturnType:
+        """Copy the state values into the two messages and publish them, stamped with ``time``."""
+        raw: dict[str, dict[str, Any]] = {}
+        for loan, target in zip(self.state_interfaces, self._targets, strict=True):
+            value = loan.get_value()
+            raw.setdefault(loan.prefix_name, {})[loan.interface_name] = value
+            if target is not None:
+                self._values[target[0]][target[1]] = float(value)
+        if self._joint_state_pub is not None:
+            msg = JointState(header=Header(stamp=time, frame_id=self._frame_id), name=list(self.joint_names))
+            for joint in self.joint_names:
+                fields = self._values.get(joint, {})
+                msg.position.append(fields.get("position", math.nan))
+                msg.velocity.append(fields.get("velocity", math.nan))
+                msg.effort.append(fields.get("effort", math.nan))
+            self._joint_state_pub.publish(msg)
+        if self._dynamic_pub is not None:
+            # Jazzy lists the *mapped* names here (and in unordered_map order); we keep the real interface
+            # names in claim order, so the topic shows what the hardware exports.
+            dyn = DynamicJointState(header=Header(stamp=time, frame_id=self._frame_id))
+            for prefix, itfs in self._dynamic_layout:
+                values = raw.get(prefix)
+                if values is None:  # an extra joint
+                    vals = [self._values[prefix][i] for i in itfs]
+                else:
+                    vals = [_as_float(values[i]) for i in itfs]
+                dyn.joint_names.append(prefix)
+                dyn.interface_values.append(InterfaceValue(interface_names=list(itfs), values=vals))
+            self._dynamic_pub.publish(dyn)
+        return ReturnType.OK
+
+
+def _as_float(value: Any) -> float:
+    try:
+        return float(value)
+    except (TypeError, ValueError):
+        return math.nan

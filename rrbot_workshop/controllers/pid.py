@@ -1,0 +1,284 @@
+"""``pid_controller/PidController``: one control_toolbox PID per degree of freedom, chainable.
+
+For each DOF ``i`` the controller reads a reference (from ``~/reference`` or, when chained, from its
+exported reference interfaces ``<controller>/<dof>/<interface>``) and a measured state (state interfaces
+``<dof>/<interface>``, or ``~/measured_state``), and writes ``<dof>/<command_interface>``::
+
+    ff    = feedforward_gain * (reference_dot if two interfaces else reference)
+    error = reference - state                      (shortest angle if angle_wraparound)
+    cmd   = ff + pid(error, reference_dot - state_dot, dt)   or  ff + pid(error, dt)
+
+A DOF whose reference or state is not finite is not written. ``reference_and_state_interfaces`` holds
+one interface (e.g. ``[position]``) or two (``[position, velocity]``; the second is the derivative of
+the first). Interfaces are ordered interface-major, as in ros2_controllers: all DOFs of the first
+interface, then all DOFs of the second.
+
+Differences from Jazzy, on purpose: feed-forward is active whenever ``feedforward_gain`` is non-zero (the
+rule ros2_controllers moved to; Jazzy's deprecated ``enable_feedforward`` switch and its
+``~/set_feedforward_control`` service are not provided), and ``~/reference`` messages are matched to DOFs by
+name (Jazzy's callback means to reorder them but does not).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import ClassVar
+
+from ..control_toolbox import Pid
+from ..exceptions import ParameterError
+from ..handles import CommandInterface, StateInterface
+from ..lifecycle import CallbackReturn, ReturnType, State
+from ..msgs import Header, MultiDOFCommand, MultiDOFStateStamped, SingleDOFState
+from ..params import Params
+from ..topics import Publisher, Subscription
+from .base import ChainableControllerInterface, InterfaceConfiguration, InterfaceConfigurationType
+from .pid_parameters import PID_CONTROLLER_PARAMETERS
+
+__all__ = ["PidController", "shortest_angular_distance"]
+
+
+def shortest_angular_distance(from_angle: float, to_angle: float) -> float:
+    """``to - from`` wrapped into [-pi, pi) [rad] (ROS ``angles::shortest_angular_distance``)."""
+    a = math.fmod(to_angle - from_angle + math.pi, 2.0 * math.pi)
+    if a < 0.0:
+        a += 2.0 * math.pi
+    return a - math.pi
+
+
+class PidController(ChainableControllerInterface):
+    """PID per DOF with exported reference and state interfaces (ros2_controllers ``pid_controller``).
+
+    Attributes:
+        pids: One :class:`~rrbot_workshop.control_toolbox.Pid` per DOF (created at configure).
+        reference_and_state_dof_names: DOF names used for references and states.
+    """
+
+    PARAMETERS: ClassVar[str | None] = PID_CONTROLLER_PARAMETERS
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.pids: list[Pid] = []
+        self.reference_and_state_dof_names: list[str] = []
+        self._params: Params | None = None
+        self._dof_names: list[str] = []
+        self._interfaces: list[str] = []
+        self._dof = 0
+        self._ref_msg: MultiDOFCommand | None = None
+        self._measured_msg: MultiDOFCommand | None = None
+        self._measured: list[float] = []
+        self._state_values: list[float] = []
+        self._ref_sub: Subscription | None = None
+        self._measured_sub: Subscription | None = None
+        self._state_pub: Publisher | None = None
+
+    # ----------------------------------------------------------------- configuration
+    def on_configure(self, previous_state: State) -> CallbackReturn:
+        """Read parameters, build one Pid per DOF, create topics."""
+        assert self.param_listener is not None
+        params = self.param_listener.get_params()
+        self._params = params
+        self._dof_names = list(params.dof_names)
+        self._interfaces = list(params.reference_and_state_interfaces)
+        self.reference_and_state_dof_names = list(params.reference_and_state_dof_names) or list(self._dof_names)
+        if len(self.reference_and_state_dof_names) != len(self._dof_names):
+            self.logger.error(
+                "'%s': parameter 'reference_and_state_dof_names' has %d entries but 'dof_names' has %d; "
+                "they must have the same size", self.get_name(), len(self.reference_and_state_dof_names),
+                len(self._dof_names),
+            )
+            return CallbackReturn.FAILURE
+        self._dof = len(self._dof_names)
+        self.pids = []
+        for dof in self._dof_names:
+            g = params.gains.dof_names_map[dof]
+            try:
+                self.pids.append(Pid(
+                    g.p, g.i, g.d, g.u_clamp_max, g.u_clamp_min, g.i_clamp_max, g.i_clamp_min,
+                    g.antiwindup_strategy, g.tracking_time_constant, g.error_deadband,
+                ))
+            except ParameterError as exc:
+                self.logger.error("'%s': gains of '%s' (parameters gains.%s.*) are invalid: %s",
+                                  self.get_name(), dof, dof, exc)
+                return CallbackReturn.FAILURE
+
+        node = self.get_node()
+        self._ref_msg = self._empty_msg()
+        self._measured_msg = self._empty_msg()
+        self._measured = [math.nan] * (self._dof * len(self._interfaces))
+        self._state_values = list(self._measured)
+        if self._ref_sub is None:
+            self._ref_sub = node.create_subscription(MultiDOFCommand, "~/reference", self._on_reference)
+        if params.use_external_measured_states and self._measured_sub is None:
+            self._measured_sub = node.create_subscription(
+                MultiDOFCommand, "~/measured_state", self._on_measured_state)
+        if self._state_pub is None:
+            self._state_pub = node.create_publisher(MultiDOFStateStamped, "~/controller_state")
+        return CallbackReturn.SUCCESS
+
+    def on_cleanup(self, previous_state: State) -> CallbackReturn:
+        """Drop the PIDs and subscriptions."""
+        for sub in (self._ref_sub, self._measured_sub):
+            if sub is not None:
+                sub.destroy()
+        self._ref_sub = self._measured_sub = None
+        self.pids = []
+        return CallbackReturn.SUCCESS
+
+    def _empty_msg(self) -> MultiDOFCommand:
+        n = len(self.reference_and_state_dof_names)
+        return MultiDOFCommand(list(self.reference_and_state_dof_names), [math.nan] * n, [math.nan] * n)
+
+    def command_interface_configuration(self) -> InterfaceConfiguration:
+        """``<dof>/<command_interface>`` for each DOF."""
+        itf = self._params.command_interface if self._params is not None else ""
+        return InterfaceConfiguration(InterfaceConfigurationType.INDIVIDUAL, [f"{d}/{itf}" for d in self._dof_names])
+
+    def state_interface_configuration(self) -> InterfaceConfiguration:
+        """``<ref_dof>/<interface>``, interface-major; none with external measured states."""
+        if self._params is not None and self._params.use_external_measured_states:
+            return InterfaceConfiguration(InterfaceConfigurationType.NONE)
+        names = [f"{d}/{i}" for i in self._interfaces for d in self.reference_and_state_dof_names]
+        return InterfaceConfiguration(InterfaceConfigurationType.INDIVIDUAL, names)
+
+    def on_export_reference_interfaces(self) -> list[CommandInterface]:
+        """``<controller>/<dof>/<interface>``, interface-major, NaN until written."""
+        name = self.get_name()
+        return [CommandInterface(name, f"{d}/{i}", initial_value=math.nan)
+                for i in self._interfaces for d in self.reference_and_state_dof_names]
+
+    def on_export_state_interfaces(self) -> list[StateInterface]:
+        """The measured state, re-exported as ``<controller>/<dof>/<interface>``."""
+        name = self.get_name()
+        return [StateInterface(name, f"{d}/{i}", initial_value=math.nan)
+                for i in self._interfaces for d in self.reference_and_state_dof_names]
+
+    # ----------------------------------------------------------------- topics (non-real-time side)
+    def _reorder(self, msg: MultiDOFCommand, topic: str) -> MultiDOFCommand | None:
+        expected = self.reference_and_state_dof_names
+        n = len(expected)
+        if len(msg.values) != n:
+            self.logger.error("'%s': rejected a message on %s: field 'values' has %d entries, expected %d (%s)",
+                              self.get_name(), topic, len(msg.values), n, expected)
+            return None
+        if msg.values_dot and len(msg.values_dot) != n:
+            self.logger.error(
+                "'%s': rejected a message on %s: field 'values_dot' has %d entries, expected %d or none",
+                self.get_name(), topic, len(msg.values_dot), n)
+            return None
+        dots = list(msg.values_dot) if msg.values_dot else [math.nan] * n
+        if not msg.dof_names:
+            self.logger.warning("'%s': message on %s has no 'dof_names'; assuming the order %s",
+                                self.get_name(), topic, expected)
+            return MultiDOFCommand(list(expected), [float(v) for v in msg.values], [float(v) for v in dots])
+        if len(msg.dof_names) != n:
+            self.logger.error("'%s': rejected a message on %s: field 'dof_names' has %d entries, expected %d (%s)",
+                              self.get_name(), topic, len(msg.dof_names), n, expected)
+            return None
+        unknown = [d for d in msg.dof_names if d not in expected]
+        if unknown or len(set(msg.dof_names)) != n:
+            self.logger.error("'%s': rejected a message on %s: field 'dof_names' = %s must name each of %s once",
+                              self.get_name(), topic, msg.dof_names, expected)
+            return None
+        index = {d: k for k, d in enumerate(msg.dof_names)}
+        return MultiDOFCommand(list(expected), [float(msg.values[index[d]]) for d in expected],
+                               [float(dots[index[d]]) for d in expected])
+
+    def _on_reference(self, msg: MultiDOFCommand) -> None:
+        ordered = self._reorder(msg, "~/reference")
+        if ordered is not None:
+            self._ref_msg = ordered
+
+    def _on_measured_state(self, msg: MultiDOFCommand) -> None:
+        if msg.values_dot and len(self._interfaces) != 2:
+            self.logger.error("'%s': rejected a message on ~/measured_state: field 'values_dot' needs two "
+                              "'reference_and_state_interfaces', got %s", self.get_name(), self._interfaces)
+            return
+        ordered = self._reorder(msg, "~/measured_state")
+        if ordered is not None:
+            self._measured_msg = ordered
+
+    # ----------------------------------------------------------------- lifecycle
+    def on_activate(self, previous_state: State) -> CallbackReturn:
+        """Reset PIDs (keeping the integral when ``save_i_term``), clear references, take the first setpoint."""
+        assert self._params is not None
+        self._ref_msg = self._empty_msg()
+        self._measured_msg = self._empty_msg()
+        for h in self.reference_interfaces:
+            h.set_value(math.nan)
+        self._measured = [math.nan] * len(self._measured)
+        for dof, pid in zip(self._dof_names, self.pids, strict=True):
+            pid.reset(save_i_term=self._params.gains.dof_names_map[dof].save_i_term)
+        if self._params.set_current_state_as_first_setpoint and not self._params.use_external_measured_states:
+            for h, loan in zip(self.reference_interfaces, self.state_interfaces, strict=False):
+                h.set_value(float(loan.get_value()))
+        return CallbackReturn.SUCCESS
+
+    def on_deactivate(self, previous_state: State) -> CallbackReturn:
+        """Nothing to stop: the last command stays until another controller writes."""
+        return CallbackReturn.SUCCESS
+
+    # ----------------------------------------------------------------- cycle
+    def update_reference_from_subscribers(self, time: float, period: float) -> ReturnType:
+        """Copy fresh topic values into the reference interfaces (each message value is used once)."""
+        msg = self._ref_msg
+        if msg is None:
+            return ReturnType.OK
+        two = len(self.reference_interfaces) == 2 * self._dof
+        for i in range(self._dof):
+            if not math.isnan(msg.values[i]):
+                self.reference_interfaces[i].set_value(msg.values[i])
+                if two and not math.isnan(msg.values_dot[i]):
+                    self.reference_interfaces[self._dof + i].set_value(msg.values_dot[i])
+                msg.values[i] = math.nan
+        return ReturnType.OK
+
+    def update_and_write_commands(self, time: float, period: float) -> ReturnType:
+        """Run each DOF's PID and write its command; publish ``~/controller_state``."""
+        assert self._params is not None
+        n = self._dof
+        if self._params.use_external_measured_states:
+            m = self._measured_msg
+            if m is not None:
+                for i in range(n):
+                    self._measured[i] = m.values[i]
+                    if len(self._measured) == 2 * n:
+                        self._measured[n + i] = m.values_dot[i]
+        else:
+            for k, loan in enumerate(self.state_interfaces):
+                self._measured[k] = float(loan.get_value())
+        for h, v in zip(self.exported_state_interfaces, self._measured, strict=False):
+            h.set_value(v)
+
+        refs = [h.get_value() for h in self.reference_interfaces]
+        two = len(refs) == 2 * n and len(self._measured) == 2 * n
+        gains = self._params.gains.dof_names_map
+        for i in range(n):
+            ref, state = refs[i], self._measured[i]
+            if not (math.isfinite(ref) and math.isfinite(state)):
+                continue
+            g = gains[self._dof_names[i]]
+            if len(refs) == 2 * n:
+                ff = refs[n + i] * g.feedforward_gain if math.isfinite(refs[n + i]) else 0.0
+            else:
+                ff = ref * g.feedforward_gain
+            error = shortest_angular_distance(state, ref) if g.angle_wraparound else ref - state
+            if two and math.isfinite(refs[n + i]) and math.isfinite(self._measured[n + i]):
+                out = self.pids[i].compute_command(error, refs[n + i] - self._measured[n + i], period)
+            else:
+                out = self.pids[i].compute_command(error, period)
+            self.command_interfaces[i].set_value(ff + out)
+
+        if self._state_pub is not None:
+            msg = MultiDOFStateStamped(header=Header(stamp=time))
+            for i, name in enumerate(self.reference_and_state_dof_names):
+                ref, state = refs[i], self._measured[i]
+                g = gains[self._dof_names[i]]
+                s = SingleDOFState(name=name, reference=ref, feedback=state, time_step=period,
+                                   output=float(self.command_interfaces[i].get_value()))
+                s.error = shortest_angular_distance(state, ref) if g.angle_wraparound else ref - state
+                if two:
+                    s.feedback_dot = self._measured[n + i]
+                    s.error_dot = refs[n + i] - self._measured[n + i]
+                msg.dof_states.append(s)
+            self._state_pub.publish(msg)
+        return ReturnType.OK
