@@ -1,0 +1,459 @@
+"""``joint_trajectory_controller/JointTrajectoryController``: follow time-stamped joint waypoints.
+
+The controller takes a ``JointTrajectory`` from ``~/joint_trajectory`` (or a FollowJointTrajectory
+goal from :meth:`JointTrajectoryController.send_goal`), samples it every cycle and writes the sample
+to the command interfaces. As in ros2_controllers Jazzy:
+
+* on activation it *holds* the current position (a one-point trajectory at ``time_from_start`` 0);
+* a new message replaces the running trajectory entirely; partial goals are padded with the last
+  position command of the missing joints;
+* what it writes is sampled one control period ahead (``time + period``), what it checks the
+  tolerances against is sampled at ``time``;
+* with the single command interface ``velocity`` or ``effort`` a PID per joint turns the position
+  and velocity errors into the command.
+"""
+
+from __future__ import annotations
+
+import copy
+import math
+import xml.etree.ElementTree as ET
+from typing import Any
+
+from ..exceptions import ParameterError
+from ..handles import LoanedCommandInterface, LoanedStateInterface
+from ..lifecycle import CallbackReturn, ReturnType, State
+from ..msgs import Header, JointTrajectory, JointTrajectoryControllerState, JointTrajectoryPoint
+from .base import ControllerInterface, InterfaceConfiguration, InterfaceConfigurationType
+from .follow_joint_trajectory import FollowJointTrajectoryResult as Result
+from .follow_joint_trajectory import GoalHandle, GoalStatus
+from .joint_trajectory_parameters import JTC_PARAMETERS, check_interface_combinations, validate_trajectory_msg
+from .jtc_action_server import FollowJointTrajectoryServer
+from .tolerances import SegmentTolerances, check_state_tolerance_per_joint, get_segment_tolerances
+from .trajectory import InterpolationMethod, Trajectory, interpolate_between_points, shortest_angular_distance
+
+__all__ = ["JointTrajectoryController", "interpolate_between_points"]
+
+_KINDS = ("position", "velocity", "acceleration", "effort")
+
+
+def _continuous_joints(urdf: str) -> set[str]:
+    root = ET.fromstring(urdf)
+    return {j.get("name", "") for j in root.iter("joint") if j.get("type") == "continuous"}
+
+
+class JointTrajectoryController(ControllerInterface, FollowJointTrajectoryServer):
+    """Follows joint trajectories; see the module docstring. Goals: :meth:`send_goal` (from the mixin).
+
+    Attributes:
+        last_rejection: Why the last trajectory message or goal was rejected, or None.
+    """
+
+    PARAMETERS = JTC_PARAMETERS
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.last_rejection: str | None = None
+        self._p: Any = None
+        self._wraparound: list[bool] = []
+        self._trajectory: Trajectory | None = None
+        self._pending: JointTrajectory | None = None
+        self._is_holding = True
+        self._subscriber_active = False
+        self._sub: Any = None
+        self._pub: Any = None
+        self._cmd_itf: dict[str, list[LoanedCommandInterface]] = {}
+        self._state_itf: dict[str, list[LoanedStateInterface]] = {}
+        self._pids: list[Any] = []
+        self._ff: list[float] = []
+        self._active_goal: GoalHandle | None = None
+        self._default_tol = SegmentTolerances()
+        self._active_tol = SegmentTolerances()
+        self._traj_time = 0.0
+        self._update_period = 0.01
+        self._cmd_timeout = 0.0
+        self._last_cmd_state = JointTrajectoryPoint()
+        self._last_cmd_time = 0.0
+        self.state_current = JointTrajectoryPoint()
+        self.state_desired = JointTrajectoryPoint()
+        self.state_error = JointTrajectoryPoint()
+        self.command_next = JointTrajectoryPoint()
+
+    # ----------------------------------------------------------------- configuration
+    def on_init(self) -> CallbackReturn:
+        """Check the interface combinations and find continuous joints in the URDF.
+
+        Raises:
+            ParameterError: For an interface combination the controller cannot drive.
+        """
+        assert self.param_listener is not None
+        params = self.param_listener.get_params()
+        check_interface_combinations(params, self.get_name())
+        continuous: set[str] = set()
+        if self.get_robot_description():
+            try:
+                continuous = _continuous_joints(self.get_robot_description())
+            except ET.ParseError as exc:
+                self.logger.error("'%s': cannot parse the robot description: %s", self.get_name(), exc)
+                return CallbackReturn.ERROR
+        self._wraparound = [j in continuous for j in params.joints]
+        return CallbackReturn.SUCCESS
+
+    @property
+    def _dof(self) -> int:
+        return len(self._p.joints)
+
+    def _command_joints(self, params: Any) -> list[str]:
+        return list(params.command_joints) or list(params.joints)
+
+    def command_interface_configuration(self) -> InterfaceConfiguration:
+        """``<command_joint>/<interface>`` for every command joint and command interface."""
+        p = self._p or self.param_listener.get_params()  # type: ignore[union-attr]
+        names = [f"{j}/{i}" for j in self._command_joints(p) for i in p.command_interfaces]
+        return InterfaceConfiguration(InterfaceConfigurationType.INDIVIDUAL, names)
+
+    def state_interface_configuration(self) -> InterfaceConfiguration:
+        """``<joint>/<interface>`` for every joint and state interface."""
+        p = self._p or self.param_listener.get_params()  # type: ignore[union-attr]
+        names = [f"{j}/{i}" for j in p.joints for i in p.state_interfaces]
+        return InterfaceConfiguration(InterfaceConfigurationType.INDIVIDUAL, names)
+
+    def on_configure(self, previous_state: State) -> CallbackReturn:
+        """Read the parameters, set up PIDs, tolerances, topics."""
+        assert self.param_listener is not None
+        p = self._p = self.param_listener.get_params()
+        try:
+            check_interface_combinations(p, self.get_name())
+        except ParameterError as exc:
+            self.logger.error("%s", exc)
+            return CallbackReturn.FAILURE
+        if p.open_loop_control:
+            self.logger.warning("'%s': open_loop_control is deprecated; use interpolate_from_desired_state", self.get_name())
+        if len(self._wraparound) != self._dof:
+            self._wraparound = [False] * self._dof
+        cmd_joints = self._command_joints(p)
+        self._map_cmd_to_joints = (
+            list(range(len(cmd_joints))) if len(cmd_joints) == self._dof else [list(p.joints).index(j) for j in cmd_joints]
+        )
+        self._has_cmd = {k: k in p.command_interfaces for k in _KINDS}
+        self._has_state = {k: k in p.state_interfaces for k in _KINDS}
+        self._use_pid = list(p.command_interfaces) in (["velocity"], ["effort"]) and not (
+            p.command_interfaces == ["velocity"] and p.open_loop_control
+        )
+        self._pids, self._ff = [], []
+        if self._use_pid:
+            from ..control_toolbox import Pid  # written alongside; imported only when a PID is needed
+
+            for idx in self._map_cmd_to_joints:
+                g = p.gains.joints_map[p.joints[idx]]
+                try:
+                    self._pids.append(Pid(g.p, g.i, g.d, g.u_clamp_max, g.u_clamp_min, g.i_clamp_max,
+                                          g.i_clamp_min, g.antiwindup_strategy, g.tracking_time_constant))
+                except ParameterError as exc:
+                    self.logger.error("'%s': gains of '%s': %s", self.get_name(), p.joints[idx], exc)
+                    return CallbackReturn.FAILURE
+                self._ff.append(g.ff_velocity_scale)
+        self._default_tol = self._active_tol = get_segment_tolerances(p)
+        self._method = InterpolationMethod(p.interpolation_method)
+        node = self.get_node()
+        if self._sub is None:
+            self._sub = node.create_subscription(JointTrajectory, "~/joint_trajectory", self._topic_callback)
+        if self._pub is None:
+            self._pub = node.create_publisher(JointTrajectoryControllerState, "~/controller_state")
+        self._update_period = 1.0 / float(self.get_update_rate() or self._cm_update_rate)
+        self._trajectory = None
+        self.logger.info("'%s': command interfaces %s, state interfaces %s, interpolation '%s'", self.get_name(),
+                         list(p.command_interfaces), list(p.state_interfaces), p.interpolation_method)
+        return CallbackReturn.SUCCESS
+
+    def on_cleanup(self, previous_state: State) -> CallbackReturn:
+        """Drop the subscription."""
+        if self._sub is not None:
+            self._sub.destroy()
+            self._sub = None
+        self._trajectory = None
+        return CallbackReturn.SUCCESS
+
+    def on_activate(self, previous_state: State) -> CallbackReturn:
+        """Sort the loaned interfaces, reset the PIDs and start holding the current position."""
+        p = self._p
+        by_name_c = {c.name: c for c in self.command_interfaces}
+        by_name_s = {s.name: s for s in self.state_interfaces}
+        try:
+            self._cmd_itf = {k: [by_name_c[f"{j}/{k}"] for j in self._command_joints(p)] for k in p.command_interfaces}
+            self._state_itf = {k: [by_name_s[f"{j}/{k}"] for j in p.joints] for k in p.state_interfaces}
+        except KeyError as exc:
+            self.logger.error("'%s': interface %s was not assigned", self.get_name(), exc)
+            return CallbackReturn.ERROR
+        for pid in self._pids:
+            pid.reset()
+        self._trajectory = Trajectory()
+        self._pending = None
+        self._subscriber_active = True
+        state = self._read_state_from_command_interfaces()
+        if p.set_last_command_interface_value_as_state_on_activation and len(self._map_cmd_to_joints) == self._dof \
+                and state is not None:
+            self.state_current = state
+            self._last_cmd_state = copy.deepcopy(state)
+        else:
+            self.state_current = self._read_state()
+            self._last_cmd_state = self._read_state()
+        self._last_cmd_time = 0.0
+        self._pending = self._hold_position()
+        goal_time = self._default_tol.goal_time_tolerance
+        self._cmd_timeout = p.cmd_timeout if p.cmd_timeout > goal_time else 0.0
+        if 0.0 < p.cmd_timeout <= goal_time:
+            self.logger.warning("'%s': cmd_timeout (%g s) must exceed constraints.goal_time (%g s); it is ignored",
+                                self.get_name(), p.cmd_timeout, goal_time)
+        return CallbackReturn.SUCCESS
+
+    def on_deactivate(self, previous_state: State) -> CallbackReturn:
+        """Abort a running goal and leave commands that stop the joints (velocity/acceleration/effort 0)."""
+        if self._active_goal is not None:
+            self._active_goal._finish(GoalStatus.ABORTED, Result.INVALID_GOAL,
+                                      "Current goal cancelled during deactivate transition.")
+            self._active_goal = None
+        for kind in ("velocity", "acceleration", "effort"):
+            for loan in self._cmd_itf.get(kind, []):
+                loan.set_value(0.0)
+        self._cmd_itf, self._state_itf = {}, {}
+        self._subscriber_active = False
+        self._trajectory = None
+        self._pending = None
+        return CallbackReturn.SUCCESS
+
+    # ----------------------------------------------------------------- state helpers
+    def _read_state(self) -> JointTrajectoryPoint:
+        point = JointTrajectoryPoint(positions=[h.get_value() for h in self._state_itf["position"]])
+        if self._has_state["velocity"]:
+            point.velocities = [h.get_value() for h in self._state_itf["velocity"]]
+            if self._has_state["acceleration"]:
+                point.accelerations = [h.get_value() for h in self._state_itf["acceleration"]]
+        if self._has_cmd["effort"]:
+            point.effort = self._command_values("effort", math.nan)
+        return point
+
+    def _command_values(self, kind: str, fill: float) -> list[float]:
+        values = [fill] * self._dof
+        for i, loan in enumerate(self._cmd_itf[kind]):
+            values[self._map_cmd_to_joints[i]] = loan.get_value()
+        return values
+
+    def _read_state_from_command_interfaces(self) -> JointTrajectoryPoint | None:
+        """Finite commands as a state (controller restart), or None if a needed one is NaN."""
+        def finite(kind: str) -> list[float] | None:
+            if not self._has_cmd[kind]:
+                return None
+            vals = self._command_values(kind, math.nan)
+            return vals if all(math.isfinite(v) for v in vals) else None
+
+        point = JointTrajectoryPoint()
+        pos = finite("position")
+        if pos is None:
+            return None
+        point.positions = pos
+        for kind, attr in (("velocity", "velocities"), ("acceleration", "accelerations")):
+            if self._has_state[kind]:
+                vals = finite(kind)
+                if vals is None:
+                    return None
+                setattr(point, attr, vals)
+        if self._has_cmd["effort"]:
+            vals = finite("effort")
+            if vals is None:
+                return None
+            point.effort = vals
+        return point
+
+    def _hold_position(self) -> JointTrajectory:
+        """A one-point trajectory at the current position, starting now; tolerances are not checked."""
+        self._is_holding = True
+        n = self._dof
+        point = JointTrajectoryPoint(positions=list(self.state_current.positions), time_from_start=0.0)
+        if self._has_cmd["velocity"] or self._has_cmd["acceleration"]:
+            point.velocities = [0.0] * n
+        if self._has_cmd["acceleration"]:
+            point.accelerations = [0.0] * n
+        if self._has_cmd["effort"]:
+            point.effort = [0.0] * n
+        return JointTrajectory(Header(stamp=0.0), list(self._p.joints), [point])
+
+    def _success_point(self) -> JointTrajectory:
+        """Hold the last waypoint of the finished trajectory (whatever its velocity)."""
+        self._is_holding = True
+        assert self._trajectory is not None and self._trajectory.trajectory_msg is not None
+        last = copy.deepcopy(self._trajectory.trajectory_msg.points[-1])
+        last.time_from_start = 0.0
+        return JointTrajectory(Header(stamp=0.0), list(self._p.joints), [last])
+
+    # ----------------------------------------------------------------- incoming trajectories
+    def _reject(self, reason: str) -> None:
+        self.last_rejection = reason
+        self.logger.error("'%s' rejected a trajectory: %s", self.get_name(), reason)
+
+    def _topic_callback(self, msg: JointTrajectory) -> None:
+        problem = validate_trajectory_msg(msg, self._p, self._has_cmd["effort"], self.get_node().now())
+        if problem is not None:
+            self._reject(problem[1])
+            return
+        if self._subscriber_active:  # a message to an inactive controller is dropped silently, as upstream
+            self._pending = copy.deepcopy(msg)
+            self._is_holding = False
+
+    def _fill_partial_goal(self, msg: JointTrajectory) -> None:
+        joints = list(self._p.joints)
+        if len(msg.joint_names) == len(joints):
+            return
+        # ros2_controllers Jazzy pads with `has_value()` of the position command (i.e. 1.0) instead of
+        # its value; here the missing joints keep their last position command (or their state).
+        cmd_pos = self._command_values("position", math.nan) if self._has_cmd["position"] else [math.nan] * len(joints)
+        for idx, joint in enumerate(joints):
+            if joint in msg.joint_names:
+                continue
+            msg.joint_names.append(joint)
+            hold = cmd_pos[idx] if math.isfinite(cmd_pos[idx]) else self._state_itf["position"][idx].get_value()
+            for point in msg.points:
+                if point.positions:
+                    point.positions.append(hold)
+                for attr in ("velocities", "accelerations", "effort"):
+                    if getattr(point, attr):
+                        getattr(point, attr).append(0.0)
+
+    def _sort_to_local_joint_order(self, msg: JointTrajectory) -> None:
+        order = [msg.joint_names.index(j) for j in self._p.joints]
+        for point in msg.points:
+            for attr in ("positions", "velocities", "accelerations", "effort"):
+                values = getattr(point, attr)
+                if len(values) == len(order):
+                    setattr(point, attr, [values[k] for k in order])
+        msg.joint_names = list(self._p.joints)
+
+    # ----------------------------------------------------------------- control loop
+    def _compute_error(self, current: JointTrajectoryPoint, desired: JointTrajectoryPoint) -> JointTrajectoryPoint:
+        n = self._dof
+        err = JointTrajectoryPoint(positions=[0.0] * n)
+        for i in range(n):
+            if self._wraparound[i]:
+                err.positions[i] = shortest_angular_distance(current.positions[i], desired.positions[i])
+            else:
+                err.positions[i] = desired.positions[i] - current.positions[i]
+        if self._has_state["velocity"]:
+            err.velocities = [0.0] * n
+            # As upstream, the velocity error is only computed with a velocity or effort command, so
+            # `stopped_velocity_tolerance` is not checked when the JTC commands positions.
+            if self._has_cmd["velocity"] or self._has_cmd["effort"]:
+                err.velocities = [desired.velocities[i] - current.velocities[i] for i in range(n)]
+        if self._has_state["acceleration"]:
+            err.accelerations = [0.0] * n
+            if self._has_cmd["acceleration"]:
+                err.accelerations = [desired.accelerations[i] - current.accelerations[i] for i in range(n)]
+        return err
+
+    def _write(self, kind: str, values: list[float]) -> None:
+        if len(values) < self._dof:
+            return  # e.g. interpolation 'none' and a waypoint without that field
+        for i, loan in enumerate(self._cmd_itf[kind]):
+            loan.set_value(values[self._map_cmd_to_joints[i]])
+
+    def update(self, time: float, period: float) -> ReturnType:  # noqa: C901 - mirrors upstream's single loop
+        """Sample the trajectory, check tolerances, write commands, publish the state."""
+        if self._pending is not None and self._trajectory is not None:
+            msg, self._pending = self._pending, None
+            self._fill_partial_goal(msg)
+            self._sort_to_local_joint_order(msg)
+            self._trajectory.update(msg)
+        self.state_current = self._read_state()
+        traj = self._trajectory
+        if traj is not None and traj.has_trajectory_msg():
+            first_sample = False
+            if not traj.is_sampled_already():
+                first_sample = True
+                if self._p.interpolate_from_desired_state or self._p.open_loop_control:
+                    if abs(self._last_cmd_time) < 1.2e-7:
+                        self._last_cmd_time = time
+                    traj.set_point_before_trajectory_msg(self._last_cmd_time, self._last_cmd_state, self._wraparound)
+                else:
+                    traj.set_point_before_trajectory_msg(time, self.state_current, self._wraparound)
+                self._traj_time = time
+            else:
+                self._traj_time += period
+            desired = traj.sample(self._traj_time, self._method)
+            nxt = traj.sample(self._traj_time + self._update_period, self._method)
+            if desired is not None and nxt is not None:
+                self.state_desired, self.command_next = desired.point, nxt.point
+                running = traj.trajectory_msg
+                assert running is not None
+                segment_start = traj.time_from_start + running.points[nxt.start_index].time_from_start
+                time_difference = self._traj_time - segment_start
+                before_last_point = nxt.end_index != len(running.points)
+                tol = self._active_tol
+                if not before_last_point and not self._is_holding and self._cmd_timeout > 0.0 \
+                        and time_difference > self._cmd_timeout:
+                    self.logger.warning("'%s': aborted due to command timeout", self.get_name())
+                    self._pending = self._hold_position()
+                self.state_error = err = self._compute_error(self.state_current, self.state_desired)
+                violated, outside_goal, within_goal_time = False, False, True
+                for i in range(self._dof):
+                    if (before_last_point or first_sample) and not self._is_holding and \
+                            not check_state_tolerance_per_joint(err, i, tol.state_tolerance[i], True):
+                        violated = True
+                    if not before_last_point and not self._is_holding and \
+                            not check_state_tolerance_per_joint(err, i, tol.goal_state_tolerance[i]):
+                        outside_goal = True
+                        if tol.goal_time_tolerance != 0.0 and time_difference > tol.goal_time_tolerance:
+                            within_goal_time = False
+                if not violated and within_goal_time:
+                    self._write_commands(time, period)
+                self._handle_outcome(time, violated, before_last_point, outside_goal, within_goal_time, time_difference)
+        self._publish_state(time)
+        return ReturnType.OK
+
+    def _write_commands(self, time: float, period: float) -> None:
+        nxt = self.command_next
+        pid_out: list[float] = []
+        if self._use_pid:
+            pid_out = [0.0] * self._dof
+            vel_err = self.state_error.velocities or [0.0] * self._dof
+            for k, idx in enumerate(self._map_cmd_to_joints):
+                ff_effort = nxt.effort[idx] if self._has_cmd["effort"] and nxt.effort else 0.0
+                ff_vel = nxt.velocities[idx] if nxt.velocities else 0.0
+                pid_out[idx] = ff_vel * self._ff[k] + ff_effort + self._pids[k].compute_command(
+                    self.state_error.positions[idx], vel_err[idx], period)
+        if self._has_cmd["position"]:
+            self._write("position", nxt.positions)
+        if self._has_cmd["velocity"]:
+            self._write("velocity", pid_out if self._use_pid else nxt.velocities)
+        if self._has_cmd["acceleration"]:
+            self._write("acceleration", nxt.accelerations)
+        if self._has_cmd["effort"]:
+            # with [position, effort] upstream writes the effort sampled at `time`, not one period ahead
+            self._write("effort", pid_out if self._use_pid else self.state_desired.effort)
+        self._last_cmd_state = copy.deepcopy(nxt)
+        self._last_cmd_time = time
+
+    def _publish_state(self, time: float) -> None:
+        if self._pub is None or not self._cmd_itf:
+            return
+        msg = JointTrajectoryControllerState(header=Header(stamp=time), joint_names=list(self._p.joints))
+        d, c, e = self.state_desired, self.state_current, self.state_error
+        msg.reference = JointTrajectoryPoint(list(d.positions), list(d.velocities), list(d.accelerations))
+        msg.feedback = JointTrajectoryPoint(list(c.positions), list(c.velocities), list(c.accelerations))
+        msg.error = JointTrajectoryPoint(list(e.positions), list(e.velocities), list(e.accelerations))
+        output = JointTrajectoryPoint()
+        for kind, attr in zip(_KINDS, ("positions", "velocities", "accelerations", "effort"), strict=True):
+            if self._has_cmd[kind]:
+                setattr(output, attr, self._command_values(kind, math.nan))
+        msg.output = output
+        msg.desired, msg.actual = msg.reference, msg.feedback
+        self._pub.publish(msg)
+
+    # ----------------------------------------------------------------- introspection
+    @property
+    def is_holding(self) -> bool:
+        """True while the controller holds a position (after activation, success, abort or cancel)."""
+        return self._is_holding
+
+    @property
+    def current_trajectory(self) -> Trajectory | None:
+        """The trajectory being sampled (None while inactive)."""
+        return self._trajectory

@@ -1,0 +1,158 @@
+"""Path and goal tolerances of the joint trajectory controller.
+
+Two sets of per-joint tolerances decide the fate of a trajectory: the *path* (``state_tolerance``)
+tolerances are checked while it runs, the *goal* tolerances once its last waypoint is due, and
+``goal_time_tolerance`` says how long past that the goal may still be reached. A tolerance of 0
+means "not checked". Defaults come from the ``constraints`` parameters; a FollowJointTrajectory
+goal can override them per joint, where 0 keeps the default and -1 erases it.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+from ..msgs import JointTolerance, JointTrajectoryPoint
+
+__all__ = [
+    "StateTolerances",
+    "SegmentTolerances",
+    "ERASE_VALUE",
+    "get_segment_tolerances",
+    "get_segment_tolerances_from_goal",
+    "resolve_tolerance_source",
+    "check_state_tolerance_per_joint",
+]
+
+_log = logging.getLogger(__name__)
+
+#: ``control_msgs/JointTolerance`` value that removes a default tolerance.
+ERASE_VALUE = -1.0
+
+
+@dataclass
+class StateTolerances:
+    """Largest allowed errors of one joint; 0 disables a check.
+
+    Attributes:
+        position: Position error in [rad].
+        velocity: Velocity error in [rad/s].
+        acceleration: Acceleration error in [rad/s^2].
+    """
+
+    position: float = 0.0
+    velocity: float = 0.0
+    acceleration: float = 0.0
+
+
+@dataclass
+class SegmentTolerances:
+    """Tolerances of a whole trajectory.
+
+    Attributes:
+        state_tolerance: Per joint, checked while the trajectory runs.
+        goal_state_tolerance: Per joint, checked once the last waypoint is due.
+        goal_time_tolerance: Time allowed past the end to reach the goal in [s]; 0 waits forever.
+    """
+
+    state_tolerance: list[StateTolerances] = field(default_factory=list)
+    goal_state_tolerance: list[StateTolerances] = field(default_factory=list)
+    goal_time_tolerance: float = 0.0
+
+
+def get_segment_tolerances(params: Any) -> SegmentTolerances:
+    """Default tolerances from the ``constraints`` parameters of a JTC.
+
+    ``constraints.<joint>.trajectory`` is the path position tolerance, ``constraints.<joint>.goal`` the
+    goal position tolerance, ``constraints.stopped_velocity_tolerance`` the goal velocity tolerance of
+    every joint and ``constraints.goal_time`` the goal time tolerance.
+    """
+    constraints = params.constraints
+    out = SegmentTolerances(goal_time_tolerance=float(constraints.goal_time))
+    for joint in params.joints:
+        per_joint = constraints.joints_map[joint]
+        out.state_tolerance.append(StateTolerances(position=float(per_joint.trajectory)))
+        out.goal_state_tolerance.append(
+            StateTolerances(position=float(per_joint.goal), velocity=float(constraints.stopped_velocity_tolerance))
+        )
+    return out
+
+
+def resolve_tolerance_source(default_value: float, goal_value: float) -> float:
+    """The tolerance to use given a default and a value from a goal.
+
+    A positive goal value wins; 0 keeps the default; -1 (:data:`ERASE_VALUE`) gives 0 (unchecked).
+
+    Raises:
+        ValueError: For any other negative goal value.
+    """
+    if goal_value > 0.0:
+        return goal_value
+    if abs(goal_value - ERASE_VALUE) < 1.2e-7:  # float epsilon, as upstream
+        return 0.0
+    if goal_value < 0.0:
+        raise ValueError(f"illegal tolerance {goal_value}: use > 0, 0 (default) or -1 (erase)")
+    return default_value
+
+
+def get_segment_tolerances_from_goal(
+    default: SegmentTolerances,
+    joints: Sequence[str],
+    path_tolerance: Sequence[JointTolerance] = (),
+    goal_tolerance: Sequence[JointTolerance] = (),
+    goal_time_tolerance: float = 0.0,
+) -> SegmentTolerances:
+    """Tolerances of one FollowJointTrajectory goal: the defaults overridden by the goal's values.
+
+    As in ros2_controllers, an unknown joint name or an illegal value makes the whole goal fall back
+    to the defaults (with an error logged); the goal itself is not rejected.
+    """
+    out = SegmentTolerances(
+        [StateTolerances(t.position, t.velocity, t.acceleration) for t in default.state_tolerance],
+        [StateTolerances(t.position, t.velocity, t.acceleration) for t in default.goal_state_tolerance],
+        default.goal_time_tolerance,
+    )
+    try:
+        out.goal_time_tolerance = resolve_tolerance_source(default.goal_time_tolerance, goal_time_tolerance)
+        for source, target, default_list in (
+            (path_tolerance, out.state_tolerance, default.state_tolerance),
+            (goal_tolerance, out.goal_state_tolerance, default.goal_state_tolerance),
+        ):
+            for tol in source:
+                if tol.name not in joints:
+                    raise ValueError(f"joint '{tol.name}' of a tolerance is not a controller joint {list(joints)}")
+                i = list(joints).index(tol.name)
+                target[i] = StateTolerances(
+                    resolve_tolerance_source(default_list[i].position, tol.position),
+                    resolve_tolerance_source(default_list[i].velocity, tol.velocity),
+                    resolve_tolerance_source(default_list[i].acceleration, tol.acceleration),
+                )
+    except ValueError as exc:
+        _log.error("goal tolerances ignored, using the defaults: %s", exc)
+        return default
+    return out
+
+
+def check_state_tolerance_per_joint(
+    state_error: JointTrajectoryPoint, index: int, tolerance: StateTolerances, show_errors: bool = False
+) -> bool:
+    """True if joint ``index`` is within every tolerance that is > 0 (missing error fields count as 0)."""
+    def err(values: list[float]) -> float:
+        return values[index] if len(values) > index else 0.0
+
+    checks = (
+        ("position", tolerance.position, err(state_error.positions)),
+        ("velocity", tolerance.velocity, err(state_error.velocities)),
+        ("acceleration", tolerance.acceleration, err(state_error.accelerations)),
+    )
+    ok = True
+    for name, tol, error in checks:
+        # a NaN error fails the check: not knowing where the joint is is not "within tolerance"
+        if tol > 0.0 and (abs(error) > tol or math.isnan(error)):
+            ok = False
+            if show_errors:
+                _log.error("joint %d: %s error %.6g exceeds the tolerance %.6g", index, name, error, tol)
+    return ok
