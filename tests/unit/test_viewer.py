@@ -1,0 +1,341 @@
+"""Tests of the meshcat viewer: geometry, kinematics, recording, HTML export, and the loopback server."""
+
+from __future__ import annotations
+
+import math
+import os
+import signal
+import subprocess
+import sys
+import textwrap
+import time
+import uuid
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from rrbot_workshop.exceptions import DescriptionError
+from rrbot_workshop.msgs import Header, JointState
+from rrbot_workshop.topics import TopicBus
+from rrbot_workshop.viz import meshcat_server
+from rrbot_workshop.viz.meshcat_server import MeshcatServer, live_servers
+from rrbot_workshop.viz.viewer import Viewer
+
+TWO_LINK_URDF = textwrap.dedent(
+    """\
+    <?xml version="1.0"?>
+    <robot name="twolink">
+      <material name="orange"><color rgba="1.0 0.42 0.04 1.0"/></material>
+      <link name="world"/>
+      <joint name="fixed_base" type="fixed"><parent link="world"/><child link="base_link"/></joint>
+      <link name="base_link">
+        <visual><origin xyz="0 0 1.0"/><geometry><box size="0.1 0.1 2.0"/></geometry><material name="orange"/></visual>
+      </link>
+      <joint name="joint1" type="continuous">
+        <parent link="base_link"/><child link="link1"/><origin xyz="0 0.1 2.0"/><axis xyz="0 1 0"/>
+      </joint>
+      <link name="link1">
+        <visual><origin xyz="0 0 0.5"/><geometry><cylinder radius="0.05" length="1.0"/></geometry></visual>
+      </link>
+      <joint name="joint2" type="revolute">
+        <parent link="link1"/><child link="link2"/><origin xyz="0 0.1 1.0"/><axis xyz="0 1 0"/>
+        <limit lower="-2.0" upper="2.0" effort="100" velocity="1"/>
+      </joint>
+      <link name="link2">
+        <visual><geometry><sphere radius="0.1"/></geometry>
+          <material name="blue"><color rgba="0.1 0.2 0.9 1"/></material></visual>
+      </link>
+      <ros2_control name="TwoLink" type="system">
+        <hardware><plugin>mock_components/GenericSystem</plugin></hardware>
+        <joint name="joint1"><command_interface name="position"/><state_interface name="position"/></joint>
+      </ros2_control>
+    </robot>
+    """
+)
+
+
+@pytest.fixture(autouse=True)
+def _no_server_survives():
+    """Every test leaves no meshcat server running (close them, then check)."""
+    yield
+    for server in list(meshcat_server._LIVE):
+        server.close()
+    assert live_servers() == []
+
+
+class _StandInSystem:
+    """What the viewer needs of a running System: ``urdf`` and ``bus``."""
+
+    def __init__(self, urdf: str) -> None:
+        self.urdf = urdf
+        self.bus = TopicBus()
+
+
+def _offline(urdf: str = TWO_LINK_URDF) -> Viewer:
+    return Viewer(urdf, open_server=False)
+
+
+# ------------------------------------------------------------------------------------------ geometry
+def test_visuals_of_every_shape_are_read_with_their_colours():
+    viewer = _offline()
+    kinds = {(s.link, s.kind) for s in viewer.model.visuals}
+    assert kinds == {("base_link", "box"), ("link1", "cylinder"), ("link2", "sphere")}
+    base = next(s for s in viewer.model.visuals if s.link == "base_link")
+    assert base.rgba == pytest.approx((1.0, 0.42, 0.04, 1.0))  # named material declared under <robot>
+    ball = next(s for s in viewer.model.visuals if s.link == "link2")
+    assert ball.rgba == pytest.approx((0.1, 0.2, 0.9, 1.0))
+
+
+def test_every_visual_becomes_a_scene_object():
+    viewer = _offline()
+    for path in ("base_link/visual_0", "link1/visual_0", "link2/visual_0"):
+        assert viewer.scene.has_object(f"/meshcat/twolink/{path}")
+
+
+def test_joint_ranges_come_from_urdf_limits():
+    ranges = {r.name: (r.lower, r.upper) for r in _offline().model.joint_ranges}
+    assert ranges == {"joint1": (-math.pi, math.pi), "joint2": (-2.0, 2.0)}
+
+
+def test_mesh_visual_is_loaded_relative_to_the_urdf_file(tmp_path: Path):
+    (tmp_path / "tri.stl").write_text(
+        "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\n"
+        "endloop\nendfacet\nendsolid t\n"
+    )
+    urdf = tmp_path / "mesh.urdf"
+    urdf.write_text(
+        '<robot name="m"><link name="a"><visual><geometry><mesh filename="tri.stl" scale="2 2 2"/></geometry>'
+        "</visual></link></robot>"
+    )
+    viewer = Viewer(urdf, open_server=False)
+    assert [s.kind for s in viewer.model.visuals] == ["mesh"]
+    assert viewer.scene.has_object("/meshcat/m/a/visual_0")
+
+
+def test_missing_mesh_is_left_out_with_a_warning(caplog: pytest.LogCaptureFixture):
+    urdf = '<robot name="m"><link name="a"><visual><geometry><mesh filename="package://nope/x.stl"/></geometry></visual></link></robot>'
+    viewer = Viewer(urdf, open_server=False)
+    assert viewer.model.visuals == []
+    assert "not found" in caplog.text
+
+
+def test_missing_file_raises_description_error(tmp_path: Path):
+    with pytest.raises(DescriptionError, match="no such URDF file"):
+        Viewer(tmp_path / "absent.urdf", open_server=False)
+
+
+def test_urdf_without_links_raises_description_error():
+    with pytest.raises(DescriptionError):
+        Viewer('<robot name="empty"></robot>', open_server=False)
+
+
+def test_rrbot_description_is_drawn():
+    """The course's RRBot (processed from xacro) gives one scene object per visual."""
+    from rrbot_workshop.description import descriptions_root
+
+    viewer = Viewer(descriptions_root() / "rrbot/urdf/rrbot.urdf.xacro", open_server=False)
+    assert viewer.model.joint_names == ["joint1", "joint2"]
+    assert viewer.model.visuals
+    for shape in viewer.model.visuals:
+        assert viewer.scene.has_object(f"/meshcat/rrbot/{shape.link}/visual_{shape.index}")
+
+
+# ------------------------------------------------------------------------------------------ kinematics
+def test_set_joint_positions_moves_the_child_links():
+    viewer = _offline()
+    viewer.set_joint_positions({"joint1": math.pi / 2})
+    tip = viewer.link_poses()["link2"][:3, 3]
+    # joint1 at (0, 0.1, 2) turns about y: the 1 m link now points along +x.
+    assert tip == pytest.approx([1.0, 0.2, 2.0], abs=1e-9)
+
+
+def test_unknown_and_non_finite_joint_values_are_ignored():
+    viewer = _offline()
+    viewer.set_joint_positions({"wheel": 3.0, "joint2": float("nan"), "joint1": 0.3})
+    assert viewer.joint_positions == {"joint1": 0.3, "joint2": 0.0}
+
+
+def test_follows_joint_states_published_on_the_bus():
+    system = _StandInSystem(TWO_LINK_URDF)
+    viewer = Viewer(system, open_server=False)
+    system.bus.publish("/joint_states", JointState(name=["joint2", "joint1"], position=[0.5, -0.25]))
+    system.bus.deliver()
+    assert viewer.joint_positions == {"joint1": -0.25, "joint2": 0.5}
+
+
+def test_close_stops_following_the_bus():
+    system = _StandInSystem(TWO_LINK_URDF)
+    viewer = Viewer(system, open_server=False)
+    viewer.close()
+    assert system.bus.subscription_count("/joint_states") == 0
+
+
+def test_sliders_span_joint_limits_and_move_the_robot():
+    viewer = _offline()
+    box = viewer.sliders()
+    j1, j2 = box.children
+    assert (j2.description, j2.min, j2.max) == ("joint2", -2.0, 2.0)
+    j1.value = 0.4
+    assert viewer.joint_positions["joint1"] == pytest.approx(0.4)
+
+
+# ------------------------------------------------------------------------------------------ recording
+def test_recording_samples_frames_at_the_frame_rate_of_simulated_time():
+    viewer = _offline()
+    with viewer.record(fps=30):
+        for i in range(200):  # 2 s at 100 Hz
+            viewer.set_joint_positions({"joint1": 0.01 * i}, time=0.01 * i)
+    assert viewer.frame_count == 60
+
+
+def test_recording_from_stamped_joint_states():
+    system = _StandInSystem(TWO_LINK_URDF)
+    viewer = Viewer(system, open_server=False)
+    viewer.start_recording(fps=10)
+    for i in range(1, 101):  # 1 s at 100 Hz
+        system.bus.publish("/joint_states", JointState(Header(stamp=0.01 * i), ["joint1"], [0.01 * i]))
+        system.bus.deliver()
+    animation = viewer.stop_recording()
+    assert animation is not None
+    assert viewer.frame_count == 11  # the start pose, then one frame every 0.1 s
+
+
+def test_start_recording_rejects_a_non_positive_frame_rate():
+    with pytest.raises(ValueError, match="fps"):
+        _offline().start_recording(fps=0)
+
+
+# ------------------------------------------------------------------------------------------ export
+def test_save_html_writes_one_self_contained_page(tmp_path: Path):
+    viewer = _offline()
+    path = viewer.save_html(tmp_path / "robot.html")
+    text = path.read_text()
+    assert "new MeshCat.Viewer" in text
+    assert "<script src=" not in text and "http://" not in text.split("<script>")[0]
+
+
+def test_exported_html_is_deterministic_and_carries_no_host_uuid():
+    first, second = _offline().static_html(), _offline().static_html()
+    assert first == second
+    viewer = _offline()
+    object_uuid = None
+    import umsgpack
+
+    for command in viewer.scene.commands():
+        data = umsgpack.unpackb(command)
+        if data["type"] == "set_object":
+            object_uuid = data["object"]["object"]["uuid"]
+            break
+    assert object_uuid is not None and uuid.UUID(object_uuid).version == 5  # not uuid1 (MAC + time)
+
+
+def test_recorded_animation_is_in_the_export(tmp_path: Path):
+    viewer = _offline()
+    with viewer.record():
+        viewer.set_joint_positions({"joint1": 1.0}, time=1.0)
+    import umsgpack
+
+    kinds = [umsgpack.unpackb(c)["type"] for c in viewer.scene.commands()]
+    assert "set_animation" in kinds
+
+
+def test_show_without_server_embeds_the_static_page():
+    shown = _offline().show()
+    assert "srcdoc=" in shown.data and "MeshCat" in shown.data
+
+
+# ------------------------------------------------------------------------------------------ server
+def _listening_addresses(pid: int) -> list[str]:
+    """Local addresses of the TCP sockets in LISTEN state owned by ``pid`` (from /proc)."""
+    inodes = set()
+    for fd in os.listdir(f"/proc/{pid}/fd"):
+        try:
+            target = os.readlink(f"/proc/{pid}/fd/{fd}")
+        except OSError:
+            continue
+        if target.startswith("socket:["):
+            inodes.add(target[8:-1])
+    found = []
+    for table in ("/proc/net/tcp", "/proc/net/tcp6"):
+        with open(table) as f:
+            next(f)
+            for line in f:
+                fields = line.split()
+                local, state, inode = fields[1], fields[3], fields[9]
+                if state == "0A" and inode in inodes:  # 0A = LISTEN
+                    found.append(local)
+    return found
+
+
+def _decode(local: str) -> str:
+    address, port = local.split(":")
+    if len(address) == 8:
+        octets = [str(int(address[i:i + 2], 16)) for i in (6, 4, 2, 0)]
+        return ".".join(octets) + f":{int(port, 16)}"
+    return f"[{address}]:{int(port, 16)}"
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="reads /proc")
+def test_server_listens_on_loopback_only():
+    with MeshcatServer() as server:
+        deadline = time.monotonic() + 5.0
+        addresses: list[str] = []
+        while len(addresses) < 2 and time.monotonic() < deadline:
+            addresses = [_decode(a) for a in _listening_addresses(server.pid)]
+        assert len(addresses) == 2  # zmq and web
+        assert all(a.startswith("127.0.0.1:") for a in addresses), addresses
+        assert server.web_url.startswith("http://127.0.0.1:")
+        assert server.zmq_url.startswith("tcp://127.0.0.1:")
+
+
+def test_close_stops_the_server_process():
+    viewer = Viewer(TWO_LINK_URDF)
+    pid = viewer.server_pid
+    assert viewer.url is not None and viewer.url.startswith("http://127.0.0.1:")
+    viewer.close()
+    assert viewer.url is None
+    with pytest.raises(ProcessLookupError):
+        os.kill(pid, 0)
+
+
+def test_live_view_receives_poses_from_the_system():
+    system = _StandInSystem(TWO_LINK_URDF)
+    with Viewer(system) as viewer:
+        system.bus.publish("/joint_states", JointState(Header(stamp=0.5), ["joint1"], [0.7]))
+        system.bus.deliver()
+        assert viewer.scene.connection is not None and not viewer.scene.connection.broken
+        assert viewer.joint_positions["joint1"] == pytest.approx(0.7)
+
+
+def _gone_or_zombie(pid: int) -> bool:
+    try:
+        with open(f"/proc/{pid}/stat") as f:
+            return f.read().rsplit(")", 1)[1].split()[0] == "Z"
+    except FileNotFoundError:
+        return True
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="reads /proc")
+def test_server_exits_when_its_parent_is_killed():
+    code = "from rrbot_workshop.viz.meshcat_server import MeshcatServer\nimport time\ns = MeshcatServer()\nprint(s.pid, flush=True)\ntime.sleep(60)\n"
+    parent = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, text=True)
+    try:
+        child = int(parent.stdout.readline())
+        os.kill(parent.pid, signal.SIGKILL)
+        parent.wait()
+        deadline = time.monotonic() + 10.0
+        while not _gone_or_zombie(child) and time.monotonic() < deadline:
+            time.sleep(0.05)
+        assert _gone_or_zombie(child)
+    finally:
+        if parent.poll() is None:
+            parent.kill()
+            parent.wait()
+
+
+def test_link_poses_are_finite_after_many_updates():
+    viewer = _offline()
+    for q in np.linspace(-3, 3, 50):
+        viewer.set_joint_positions({"joint1": q, "joint2": q / 2})
+    assert all(np.isfinite(p).all() for p in viewer.link_poses().values())
