@@ -58,6 +58,7 @@ _BUILTIN: dict[str, dict[str, str]] = {
 _registered: dict[str, dict[str, Any]] = {k: {} for k in KINDS}
 _resolvers: dict[str, dict[str, Callable[[], Any]]] = {k: {} for k in KINDS}
 _ENTRY_POINT_GROUP = "rrbot_workshop.plugins"
+_tracks_installed = False
 
 
 def _check_kind(kind: str) -> None:
@@ -83,6 +84,14 @@ def register_resolver(kind: str, type_name: str, resolver: Callable[[], Any]) ->
     _resolvers[kind][type_name] = resolver
 
 
+def _install_tracks() -> None:
+    """Let the course tracks register their resolvers, once (``tracks`` sits above this module)."""
+    global _tracks_installed
+    if not _tracks_installed:
+        _tracks_installed = True
+        importlib.import_module(".tracks", __package__).install()
+
+
 def _entry_points(kind: str) -> dict[str, Any]:
     out: dict[str, Any] = {}
     for ep in metadata.entry_points(group=_ENTRY_POINT_GROUP):
@@ -95,6 +104,7 @@ def _entry_points(kind: str) -> dict[str, Any]:
 def available(kind: str) -> list[str]:
     """Every type string of ``kind`` that :func:`resolve` would accept, sorted."""
     _check_kind(kind)
+    _install_tracks()
     names = set(_BUILTIN[kind]) | set(_registered[kind]) | set(_resolvers[kind]) | set(_entry_points(kind))
     return sorted(names)
 
@@ -111,6 +121,7 @@ def resolve(kind: str, type_name: str) -> Any:
         PluginNotFound: If nothing provides ``type_name``; the message lists what exists.
     """
     _check_kind(kind)
+    _install_tracks()
     if type_name in _registered[kind]:
         return _registered[kind][type_name]
     if type_name in _resolvers[kind]:

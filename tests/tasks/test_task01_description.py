@@ -1,0 +1,337 @@
+"""Grader of task 1: the RRBot description (xacro macros and the ``<ros2_control>`` tag).
+
+The specification (from the ROSCon 2022 workshop, task 1):
+
+* 2 DoF on a pedestal, a box 0.3 m x 0.3 m x 0.3 m standing on the ground;
+* joint1 0.3 m above the ground, turning about the vertical axis, limits +-380 deg, 180 deg/s;
+* link1 a cylinder 0.5 m long, 0.1 m radius; joint2 at its top, turning about an axis orthogonal to it,
+  limits -60 deg to 240 deg, 180 deg/s; link2 0.6 m long, 0.1 m x 0.1 m cross-section; tool0 at its tip.
+  At zero, link2 is horizontal; a positive joint2 angle lifts it (at +90 deg it points straight up);
+* every link with a body has an inertia;
+* ``<ros2_control>``: joint1 and joint2 with a position command interface and position, velocity and
+  acceleration state interfaces; sensor ``tcp_fts_sensor`` with fx, fy, fz, tx, ty, tz and ``frame_id`` tool0;
+  GPIO ``flange_gpios`` with inputs digital_in_1/2 and outputs digital_out_1/2 that can be read back;
+* the ``prefix`` argument prefixes every link and joint (and the sensor's frame).
+
+The checks look at behaviour (forward kinematics, parsed interfaces), not at how the files are written.
+"""
+
+from __future__ import annotations
+
+import io
+import math
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+import yourdfpy
+
+from rrbot_workshop.description import parse_ros2_control, process_xacro
+from rrbot_workshop.description.info import ComponentInfo, HardwareInfo
+from rrbot_workshop.grading import graded
+
+TASK = 1
+MAIN_FILE = "rrbot_description/urdf/rrbot.urdf.xacro"
+TOL = 1e-3  # [m] and [rad]: learners may type 6.6323 instead of radians(380)
+
+
+# --------------------------------------------------------------------------------------------- fixtures
+
+
+@pytest.fixture(scope="module")
+def description_file(task_file: Callable[[int, str], Path]) -> Path:
+    return task_file(TASK, MAIN_FILE)
+
+
+@pytest.fixture(scope="module")
+def urdf(description_file: Path) -> str:
+    return process_xacro(description_file)
+
+
+@pytest.fixture(scope="module")
+def model(urdf: str) -> yourdfpy.URDF:
+    return yourdfpy.URDF.load(
+        io.StringIO(urdf), build_scene_graph=True, build_collision_scene_graph=False, load_meshes=False,
+        load_collision_meshes=False,
+    )
+
+
+@pytest.fixture(scope="module")
+def hardware(urdf: str) -> HardwareInfo:
+    infos = parse_ros2_control(urdf)
+    assert len(infos) == 1, f"expected one <ros2_control> tag, found {len(infos)}"
+    return infos[0]
+
+
+@pytest.fixture(scope="module")
+def prefixed_urdf(description_file: Path) -> str:
+    return process_xacro(description_file, prefix="left_")
+
+
+# --------------------------------------------------------------------------------------------- helpers
+
+
+def _link(model: yourdfpy.URDF, name: str) -> Any:
+    assert name in model.link_map, f"no link '{name}' (links: {sorted(model.link_map)})"
+    return model.link_map[name]
+
+
+def _joint(model: yourdfpy.URDF, name: str) -> Any:
+    assert name in model.joint_map, f"no joint '{name}' (joints: {sorted(model.joint_map)})"
+    return model.joint_map[name]
+
+
+def _frame(model: yourdfpy.URDF, link: str, q1: float = 0.0, q2: float = 0.0) -> np.ndarray:
+    """World pose (4x4) of ``link`` at joint angles ``q1``, ``q2`` in [rad]."""
+    _link(model, link)
+    wanted = {"joint1": q1, "joint2": q2}
+    for joint, angle in wanted.items():
+        if angle != 0.0:
+            assert _joint(model, joint).type == "revolute", f"joint '{joint}' must be revolute"
+    if model.actuated_joint_names:
+        model.update_cfg({name: wanted.get(name, 0.0) for name in model.actuated_joint_names})
+    root = model.scene.graph.base_frame
+    return np.asarray(model.get_transform(link, root))
+
+
+def _joint_world(model: yourdfpy.URDF, name: str) -> tuple[np.ndarray, np.ndarray]:
+    """World position [m] and unit axis of a joint at the zero configuration."""
+    joint = _joint(model, name)
+    pose = _frame(model, joint.child)
+    axis = np.asarray(joint.axis if joint.axis is not None else [1.0, 0.0, 0.0], dtype=float)
+    axis = pose[:3, :3] @ (axis / np.linalg.norm(axis))
+    return pose[:3, 3], axis
+
+
+def _visual_geometry(model: yourdfpy.URDF, link: str, kind: str) -> tuple[Any, np.ndarray]:
+    for visual in _link(model, link).visuals:
+        geometry = getattr(visual.geometry, kind, None)
+        if geometry is not None:
+            origin = visual.origin if visual.origin is not None else np.eye(4)
+            return geometry, np.asarray(origin)
+    raise AssertionError(f"link '{link}' has no <visual> with a <{kind}> geometry")
+
+
+def _component(items: list[ComponentInfo], name: str, what: str) -> ComponentInfo:
+    names = [c.name for c in items]
+    assert name in names, f"no <{what} name='{name}'> in <ros2_control> (found: {names})"
+    return items[names.index(name)]
+
+
+def _names(interfaces: list[Any]) -> list[str]:
+    return [i.name for i in interfaces]
+
+
+def _close(actual: Any, expected: Any, tol: float = TOL) -> bool:
+    return bool(np.allclose(np.asarray(actual, dtype=float), np.asarray(expected, dtype=float), atol=tol))
+
+
+# --------------------------------------------------------------------------------------------- kinematics
+
+
+@graded(points=2, hint="rrbot.urdf.xacro must expand with xacro, with no arguments, into a URDF: check the XML, "
+        "the xacro:include paths (relative to the including file) and that the macros are instantiated.")
+def test_description_processes(model: yourdfpy.URDF) -> None:
+    assert model.robot.links, "the URDF has no links"
+
+
+@graded(points=2, hint="The chain is base_link -joint1-> link1 -joint2-> link2 -> tool0; joint1 and joint2 are "
+        "revolute, tool0 hangs on link2 by a fixed joint.")
+def test_links_and_joints(model: yourdfpy.URDF) -> None:
+    for link in ("base_link", "link1", "link2", "tool0"):
+        _link(model, link)
+    chain = {j.child: j for j in model.robot.joints}
+    expected = [("tool0", "link2", "fixed"), ("link2", "link1", "revolute"), ("link1", "base_link", "revolute")]
+    for child, parent, kind in expected:
+        assert child in chain, f"no joint has '{child}' as its child"
+        assert chain[child].parent == parent, f"'{child}' must hang on '{parent}', not '{chain[child].parent}'"
+        assert chain[child].type == kind, f"the joint above '{child}' must be {kind}, not {chain[child].type}"
+
+
+@graded(points=1, hint="The pedestal (base_link) is a box 0.3 x 0.3 x 0.3 m standing on the ground: its visual's "
+        "origin is half its height (0.15 m) above the base_link frame.")
+def test_pedestal(model: yourdfpy.URDF) -> None:
+    box, origin = _visual_geometry(model, "base_link", "box")
+    assert _close(box.size, [0.3, 0.3, 0.3]), f"pedestal box size is {list(box.size)}, expected 0.3 0.3 0.3"
+    pose = _frame(model, "base_link") @ origin
+    assert _close(pose[2, 3], 0.15), f"the pedestal's centre is {pose[2, 3]:.3f} m above the ground, expected 0.15"
+
+
+@graded(points=2, hint="joint1 sits on top of the pedestal, 0.3 m above the ground, and turns about the vertical "
+        "axis: origin xyz='0 0 0.3', axis xyz='0 0 1'.")
+def test_joint1_placement(model: yourdfpy.URDF) -> None:
+    position, axis = _joint_world(model, "joint1")
+    assert _close(position, [0, 0, 0.3]), f"joint1 is at {np.round(position, 3).tolist()}, expected [0, 0, 0.3]"
+    assert _close(abs(axis[2]), 1.0), f"joint1's axis is {np.round(axis, 3).tolist()} in the world, not vertical"
+
+
+@graded(points=1, hint="link1 is a cylinder 0.5 m long with a 0.1 m radius (0.2 m diameter), reaching from joint1 "
+        "up to joint2: its visual origin is at z=0.25.")
+def test_link1_shape(model: yourdfpy.URDF) -> None:
+    cylinder, origin = _visual_geometry(model, "link1", "cylinder")
+    assert _close(cylinder.length, 0.5), f"link1 cylinder is {cylinder.length} m long, expected 0.5"
+    assert _close(cylinder.radius, 0.1), f"link1 cylinder radius is {cylinder.radius} m, expected 0.1"
+    assert _close(origin[:3, 3], [0, 0, 0.25]), "link1's cylinder must span from joint1 (z=0) to joint2 (z=0.5)"
+
+
+@graded(points=2, hint="joint2 sits at the top of link1 (0.5 m above joint1, so 0.8 m above the ground) and turns "
+        "about a horizontal axis, orthogonal to link1.")
+def test_joint2_placement(model: yourdfpy.URDF) -> None:
+    position, axis = _joint_world(model, "joint2")
+    assert _close(position, [0, 0, 0.8]), f"joint2 is at {np.round(position, 3).tolist()}, expected [0, 0, 0.8]"
+    assert abs(axis[2]) < TOL, f"joint2's axis is {np.round(axis, 3).tolist()} in the world, not horizontal"
+
+
+@graded(points=1, hint="link2 is a box 0.6 m long with a 0.1 x 0.1 m cross-section.")
+def test_link2_shape(model: yourdfpy.URDF) -> None:
+    box, _ = _visual_geometry(model, "link2", "box")
+    assert _close(sorted(box.size), [0.1, 0.1, 0.6]), f"link2 box size is {list(box.size)}, expected 0.1 0.1 0.6"
+
+
+@graded(points=3, hint="tool0 is at the tip of link2, 0.6 m from joint2. At zero link2 is horizontal (tool0 0.8 m "
+        "high, 0.6 m from the vertical axis); at joint2=+90 deg it points straight up (tool0 at 0 0 1.4); joint1 "
+        "swings it around the vertical axis. Use joint2 origin rpy='0 -pi/2 0' with axis '0 1 0'.")
+def test_tool0_at_tip(model: yourdfpy.URDF) -> None:
+    home = _frame(model, "tool0")[:3, 3]
+    assert _close(home[2], 0.8), f"at zero tool0 is {home[2]:.3f} m high, expected 0.8 (link2 horizontal)"
+    assert _close(math.hypot(home[0], home[1]), 0.6), (
+        f"at zero tool0 is {math.hypot(home[0], home[1]):.3f} m from the vertical axis, expected 0.6"
+    )
+    up = _frame(model, "tool0", 0.0, math.pi / 2)[:3, 3]
+    assert _close(up, [0, 0, 1.4]), f"at joint2=+90 deg tool0 is at {np.round(up, 3).tolist()}, expected [0, 0, 1.4]"
+    turned = _frame(model, "tool0", math.pi / 2, 0.0)[:3, 3]
+    assert _close(turned[2], 0.8) and _close(float(np.dot(turned[:2], home[:2])), 0.0), (
+        f"at joint1=+90 deg tool0 is at {np.round(turned, 3).tolist()}: joint1 must swing it about the vertical axis"
+    )
+
+
+# --------------------------------------------------------------------------------------------- limits, inertia
+
+
+def _check_limits(model: yourdfpy.URDF, name: str, lower_deg: float, upper_deg: float) -> None:
+    limit = _joint(model, name).limit
+    assert limit is not None, f"joint '{name}' has no <limit>"
+    assert limit.lower is not None and _close(limit.lower, math.radians(lower_deg)), (
+        f"{name} lower limit is {limit.lower} rad, expected radians({lower_deg:g}) = {math.radians(lower_deg):.4f}"
+    )
+    assert limit.upper is not None and _close(limit.upper, math.radians(upper_deg)), (
+        f"{name} upper limit is {limit.upper} rad, expected radians({upper_deg:g}) = {math.radians(upper_deg):.4f}"
+    )
+    assert limit.velocity is not None and _close(limit.velocity, math.radians(180)), (
+        f"{name} velocity limit is {limit.velocity} rad/s, expected radians(180) = {math.pi:.4f}"
+    )
+
+
+@graded(points=2, hint="joint1: <limit lower='${radians(-380)}' upper='${radians(380)}' "
+        "velocity='${radians(180)}' effort='...'/> (URDF limits are in rad and rad/s).")
+def test_joint1_limits(model: yourdfpy.URDF) -> None:
+    _check_limits(model, "joint1", -380, 380)
+
+
+@graded(points=2, hint="joint2: <limit lower='${radians(-60)}' upper='${radians(240)}' "
+        "velocity='${radians(180)}' effort='...'/>.")
+def test_joint2_limits(model: yourdfpy.URDF) -> None:
+    _check_limits(model, "joint2", -60, 240)
+
+
+@graded(points=2, hint="base_link, link1 and link2 each need an <inertial> with a positive mass and a positive "
+        "definite inertia (simulators and dynamics need it); the solid box and cylinder formulas give one.")
+def test_inertias(model: yourdfpy.URDF) -> None:
+    for name in ("base_link", "link1", "link2"):
+        inertial = _link(model, name).inertial
+        assert inertial is not None, f"link '{name}' has no <inertial>"
+        assert inertial.mass is not None and inertial.mass > 0, f"link '{name}' mass must be > 0"
+        inertia = np.asarray(inertial.inertia, dtype=float)
+        assert inertia.shape == (3, 3) and np.all(np.linalg.eigvalsh(inertia) > 0), (
+            f"link '{name}' inertia {inertia.round(6).tolist()} is not positive definite"
+        )
+
+
+# --------------------------------------------------------------------------------------------- <ros2_control>
+
+
+@graded(points=1, hint="Add one <ros2_control name='rrbot' type='system'> tag (instantiate the macro of "
+        "rrbot_macro.ros2_control.xacro in rrbot.urdf.xacro).")
+def test_ros2_control_tag(hardware: HardwareInfo) -> None:
+    assert hardware.name == "rrbot", f"the <ros2_control> tag is named '{hardware.name}', expected 'rrbot'"
+    assert hardware.type == "system", f"the <ros2_control> type is '{hardware.type}', expected 'system'"
+
+
+@graded(points=3, hint="Each of joint1 and joint2 has <command_interface name='position'/> and the state "
+        "interfaces position, velocity and acceleration.")
+def test_joint_interfaces(hardware: HardwareInfo) -> None:
+    assert [j.name for j in hardware.joints] == ["joint1", "joint2"], (
+        f"<ros2_control> joints are {[j.name for j in hardware.joints]}, expected ['joint1', 'joint2']"
+    )
+    for joint in hardware.joints:
+        assert _names(joint.command_interfaces) == ["position"], (
+            f"{joint.name} command interfaces are {_names(joint.command_interfaces)}, expected ['position']"
+        )
+        states = _names(joint.state_interfaces)
+        assert sorted(states) == ["acceleration", "position", "velocity"], (
+            f"{joint.name} state interfaces are {states}, expected position, velocity, acceleration"
+        )
+
+
+@graded(points=2, hint="<sensor name='tcp_fts_sensor'> has the six state interfaces fx fy fz tx ty tz and "
+        "<param name='frame_id'>tool0</param> (with the prefix: ${prefix}tool0).")
+def test_fts_sensor(hardware: HardwareInfo) -> None:
+    sensor = _component(hardware.sensors, "tcp_fts_sensor", "sensor")
+    states = _names(sensor.state_interfaces)
+    assert sorted(states) == sorted(["fx", "fy", "fz", "tx", "ty", "tz"]), (
+        f"tcp_fts_sensor state interfaces are {states}, expected fx fy fz tx ty tz"
+    )
+    assert not sensor.command_interfaces, "a sensor has no command interfaces"
+    assert sensor.parameters.get("frame_id") == "tool0", (
+        f"tcp_fts_sensor frame_id is {sensor.parameters.get('frame_id')!r}, expected 'tool0'"
+    )
+
+
+@graded(points=1, hint="<gpio name='flange_gpios'> has two inputs: state interfaces digital_in_1 and digital_in_2 "
+        "(inputs are read only: no command interface).")
+def test_gpio_inputs(hardware: HardwareInfo) -> None:
+    gpio = _component(hardware.gpios, "flange_gpios", "gpio")
+    states, commands = _names(gpio.state_interfaces), _names(gpio.command_interfaces)
+    for name in ("digital_in_1", "digital_in_2"):
+        assert name in states, f"flange_gpios has no state interface '{name}' (state interfaces: {states})"
+        assert name not in commands, f"'{name}' is an input: it must not be a command interface"
+
+
+@graded(points=2, hint="flange_gpios has two outputs: command interfaces digital_out_1 and digital_out_2.")
+def test_gpio_outputs(hardware: HardwareInfo) -> None:
+    gpio = _component(hardware.gpios, "flange_gpios", "gpio")
+    commands = _names(gpio.command_interfaces)
+    assert sorted(commands) == ["digital_out_1", "digital_out_2"], (
+        f"flange_gpios command interfaces are {commands}, expected digital_out_1 and digital_out_2"
+    )
+
+
+@graded(points=1, hint="Outputs can be read back: give flange_gpios a state interface of the same name next to "
+        "each output's command interface (digital_out_1, digital_out_2).")
+def test_gpio_output_readback(hardware: HardwareInfo) -> None:
+    gpio = _component(hardware.gpios, "flange_gpios", "gpio")
+    states = _names(gpio.state_interfaces)
+    for name in ("digital_out_1", "digital_out_2"):
+        assert name in states, f"flange_gpios has no state interface '{name}' to read the output back"
+
+
+@graded(points=2, hint="With prefix:=left_ every link (except world) and joint is named left_..., the "
+        "<ros2_control> joints are left_joint1 and left_joint2, and the FTS frame_id is left_tool0.")
+def test_prefix(prefixed_urdf: str) -> None:
+    model = yourdfpy.URDF.load(io.StringIO(prefixed_urdf), build_scene_graph=False, load_meshes=False,
+                               load_collision_meshes=False)
+    links = [link.name for link in model.robot.links if link.name != "world"]
+    joints = [joint.name for joint in model.robot.joints]
+    unprefixed = [n for n in links + joints if not n.startswith("left_")]
+    assert links and not unprefixed, f"not prefixed with prefix:=left_: {unprefixed}"
+    (hardware,) = parse_ros2_control(prefixed_urdf)
+    assert [j.name for j in hardware.joints] == ["left_joint1", "left_joint2"], (
+        f"<ros2_control> joints with prefix:=left_ are {[j.name for j in hardware.joints]}"
+    )
+    sensors = [s for s in hardware.sensors if s.name.endswith("tcp_fts_sensor")]
+    assert sensors, "no tcp_fts_sensor with prefix:=left_"
+    assert sensors[0].parameters.get("frame_id") == "left_tool0", (
+        f"with prefix:=left_ the FTS frame_id is {sensors[0].parameters.get('frame_id')!r}: the frame is 'left_tool0'"
+    )

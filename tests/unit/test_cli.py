@@ -1,0 +1,232 @@
+"""The ``rrbot-workshop`` command: grade, progress, tasks, reset, export, and its exit codes."""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import subprocess
+import sys
+import tarfile
+from datetime import datetime
+from pathlib import Path
+
+import pytest
+
+from rrbot_workshop import tracks
+from rrbot_workshop.cli import main
+from rrbot_workshop.exceptions import CourseError
+from rrbot_workshop.grading import export_student_copy, reset_exercise
+
+REPO = Path(__file__).resolve().parents[2]
+_GIT_ENV = {"GIT_AUTHOR_NAME": "t", "GIT_AUTHOR_EMAIL": "t@example.invalid", "GIT_COMMITTER_NAME": "t",
+            "GIT_COMMITTER_EMAIL": "t@example.invalid"}
+
+
+@pytest.fixture(autouse=True)
+def _clean_env(monkeypatch: pytest.MonkeyPatch) -> None:
+    for name in (tracks.TRACK_ENV, tracks.ROOT_ENV, tracks.TASK_ROOT_ENV, "GIT_DIR", "GIT_WORK_TREE"):
+        monkeypatch.delenv(name, raising=False)
+    tracks.set_track(None)
+
+
+@pytest.fixture
+def course(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
+    """A tiny course with two fast graders (tasks 5 and 6) and an exercise for task 5."""
+    root = tmp_path / "course"
+    (root / "tests" / "tasks").mkdir(parents=True)
+    (root / "tests" / "tasks" / "test_task05_fake.py").write_text(
+        "from rrbot_workshop import tracks\nfrom rrbot_workshop.grading import graded\n\n"
+        "@graded(points=2, hint='write 42')\ndef test_answer():\n"
+        "    assert (tracks.task_dir(5) / 'answer.txt').read_text().strip() == '42'\n"
+    )
+    (root / "tests" / "tasks" / "test_task06_other.py").write_text("def test_ok():\n    pass\n")
+    for track in tracks.TRACKS:
+        (root / track / "task05_fake").mkdir(parents=True)
+        (root / track / "task05_fake" / "answer.txt").write_text("42\n" if track == "solutions" else "TODO\n")
+    monkeypatch.setenv(tracks.ROOT_ENV, str(root))
+    return root
+
+
+def _git(root: Path, *args: str) -> None:
+    subprocess.run(["git", *args], cwd=root, check=True, capture_output=True, env={**os.environ, **_GIT_ENV})
+
+
+# ------------------------------------------------------------------------------------------- grade, progress
+
+
+def test_grade_json_of_the_real_task01_solution(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["grade", "1", "--json", "--track", "solutions"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert set(data) == {"task", "score", "max_score", "checks"}
+    assert data["task"] == 1 and data["score"] == data["max_score"] > 0
+    assert all(set(c) == {"name", "points", "max_points", "passed", "hint"} for c in data["checks"])
+
+
+def test_grade_prints_a_rubric_and_exits_0_on_a_low_score(course: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["grade", "5"]) == 0
+    out = capsys.readouterr().out
+    assert "FAIL  0/2  answer" in out and "hint: write 42" in out and "Total: 0/2 points" in out
+
+
+def test_grade_output_is_identical_between_runs(course: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """No wall-clock time in the output: notebooks compare it with nbval."""
+    main(["grade", "5"])
+    first = capsys.readouterr().out
+    main(["grade", "5"])
+    assert capsys.readouterr().out == first
+
+
+def test_grade_root_option_grades_a_copy(course: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    (tmp_path / "upload" / "task05_fake").mkdir(parents=True)
+    (tmp_path / "upload" / "task05_fake" / "answer.txt").write_text("42")
+    assert main(["grade", "5", "--json", "--root", str(tmp_path / "upload")]) == 0
+    assert json.loads(capsys.readouterr().out)["score"] == 2
+
+
+def test_unknown_task_exits_2_and_lists_tasks(course: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["grade", "13"]) == 2
+    err = capsys.readouterr().err
+    assert "task 13" in err and "task05_fake" in err and "task06_other" in err
+
+
+def test_unknown_track_is_a_usage_error(course: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["grade", "5", "--track", "answers"]) == 2
+    assert "invalid choice" in capsys.readouterr().err
+
+
+def test_invalid_track_environment_is_a_usage_error(
+    course: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    monkeypatch.setenv(tracks.TRACK_ENV, "answers")
+    assert main(["grade", "5"]) == 2
+    assert "valid: 'exercises', 'solutions'" in capsys.readouterr().err
+
+
+def test_missing_command_is_a_usage_error(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main([]) == 2
+
+
+def test_broken_grader_exits_1(course: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    (course / "tests" / "tasks" / "test_task06_other.py").write_text("import no_such_module_here\n")
+    assert main(["grade", "6"]) == 1
+    assert "could not be collected" in capsys.readouterr().err
+
+
+def test_progress_json_grades_every_task_with_a_grader(course: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["progress", "--json", "--track", "solutions"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert [t["task"] for t in data["tasks"]] == [5, 6]
+    assert (data["track"], data["score"], data["max_score"]) == ("solutions", 3, 3)
+
+
+def test_progress_text_has_one_line_per_task(course: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["progress"]) == 0
+    out = capsys.readouterr().out.splitlines()
+    assert out[0] == "Progress on the exercises track"
+    assert "task05_fake" in out[1] and "0/2" in out[1] and "task06_other" in out[2]
+    assert out[-1] == "Total: 1/3 points"
+
+
+def test_tasks_lists_tasks_and_track(course: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["tasks"]) == 0
+    out = capsys.readouterr().out
+    assert "Track: exercises" in out and "task05_fake" in out and "exercises, solutions" in out
+
+
+def test_course_option_selects_the_course(course: Path, monkeypatch: pytest.MonkeyPatch,
+                                          capsys: pytest.CaptureFixture[str]) -> None:
+    monkeypatch.delenv(tracks.ROOT_ENV)
+    assert main(["--course", str(course), "tasks"]) == 0
+    assert "task05_fake" in capsys.readouterr().out
+    assert tracks.ROOT_ENV not in os.environ
+
+
+# ------------------------------------------------------------------------------------------- reset
+
+
+@pytest.mark.skipif(shutil.which("git") is None, reason="needs git")
+def test_reset_restores_from_git_after_a_backup(course: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    _git(course, "init", "-q")
+    _git(course, "add", "exercises")
+    _git(course, "commit", "-q", "-m", "course")
+    exercise = course / "exercises" / "task05_fake"
+    (exercise / "answer.txt").write_text("my work\n")
+    (exercise / "notes.txt").write_text("extra\n")
+    assert main(["reset", "5"]) == 0
+    assert (exercise / "answer.txt").read_text() == "TODO\n" and not (exercise / "notes.txt").exists()
+    (backup,) = (course / "backups").iterdir()
+    assert backup.name.startswith("task05_")
+    assert (backup / "answer.txt").read_text() == "my work\n" and (backup / "notes.txt").is_file()
+    assert "from git" in capsys.readouterr().out
+
+
+@pytest.mark.skipif(shutil.which("git") is None, reason="needs git")
+def test_two_resets_in_the_same_second_keep_both_backups(course: Path) -> None:
+    _git(course, "init", "-q")
+    _git(course, "add", "exercises")
+    _git(course, "commit", "-q", "-m", "course")
+    now = datetime(2026, 1, 2, 3, 4, 5)
+    first = reset_exercise(5, now=now)
+    second = reset_exercise(5, now=now)
+    assert first.backup is not None and second.backup is not None
+    assert first.backup.name == "task05_20260102-030405" and second.backup.name == "task05_20260102-030405_2"
+
+
+def test_reset_without_pristine_copy_changes_nothing(course: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    (course / "exercises" / "task05_fake" / "answer.txt").write_text("my work\n")
+    assert main(["reset", "5"]) == 2
+    assert "no pristine copy" in capsys.readouterr().err
+    assert (course / "exercises" / "task05_fake" / "answer.txt").read_text() == "my work\n"
+    assert not (course / "backups").exists()
+
+
+def test_reset_unknown_task_raises_course_error(course: Path) -> None:
+    with pytest.raises(CourseError, match="no task 9"):
+        reset_exercise(9)
+
+
+# ------------------------------------------------------------------------------------------- export
+
+
+def test_export_leaves_out_solutions_and_reset_works_from_its_archive(course: Path, tmp_path: Path) -> None:
+    (course / ".git").mkdir()
+    (course / ".venv").mkdir()
+    (course / "backups").mkdir()
+    target = export_student_copy(tmp_path / "student")
+    assert not any((target / name).exists() for name in ("solutions", ".git", ".venv", "backups"))
+    assert (target / "exercises" / "task05_fake" / "answer.txt").is_file()
+    with tarfile.open(target / ".pristine" / "exercises.tar.gz") as tar:
+        assert tar.getnames() == ["exercises/task05_fake/answer.txt"]
+    (target / "exercises" / "task05_fake" / "answer.txt").write_text("mine")
+    assert main(["--course", str(target), "reset", "5"]) == 0
+    assert (target / "exercises" / "task05_fake" / "answer.txt").read_text() == "TODO\n"
+
+
+def test_export_refuses_a_non_empty_folder(course: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    (tmp_path / "full").mkdir()
+    (tmp_path / "full" / "x").write_text("")
+    assert main(["export", "--student", str(tmp_path / "full")]) == 2
+    assert "not an empty folder" in capsys.readouterr().err
+
+
+def test_export_refuses_a_folder_inside_the_course(course: Path) -> None:
+    with pytest.raises(CourseError, match="outside the course folder"):
+        export_student_copy(course / "handout")
+
+
+def test_student_copy_of_the_real_course_still_grades(tmp_path: Path) -> None:
+    """Export this repository, then grade task 1 inside the copy, on the exercises track, with the copy's code."""
+    target = tmp_path / "student"
+    env = {k: v for k, v in os.environ.items() if not k.startswith("RRBOT_WORKSHOP_")}
+    subprocess.run([sys.executable, "-m", "rrbot_workshop.cli", "export", "--student", str(target)],
+                   cwd=REPO, env=env, check=True, capture_output=True)
+    assert not (target / "solutions").exists() and (target / "rrbot_workshop" / "cli.py").is_file()
+    result = subprocess.run([sys.executable, "-m", "rrbot_workshop.cli", "grade", "1", "--json"],
+                            cwd=target, env=env, capture_output=True, text=True, check=False)
+    assert result.returncode == 0, result.stderr
+    data = json.loads(result.stdout)
+    assert data["task"] == 1 and 0 < data["max_score"] and data["score"] < data["max_score"]
+    missing = subprocess.run([sys.executable, "-m", "rrbot_workshop.cli", "grade", "1", "--track", "solutions"],
+                             cwd=target, env=env, capture_output=True, text=True, check=False)
+    assert missing.returncode == 2 and "no 'solutions/' folder" in missing.stderr

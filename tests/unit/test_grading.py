@@ -1,0 +1,255 @@
+"""The grading framework: weighted checks, the rubric, the pytest plugin and the subprocess runner."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+from rrbot_workshop import tracks
+from rrbot_workshop.exceptions import CourseError, GradingError
+from rrbot_workshop.grading import CheckResult, Rubric, check, grade, graded, graded_tasks, grader_path
+from rrbot_workshop.grading.rubric import DEFAULT_POINTS, check_spec
+
+_GRADER = '''
+import pytest
+from rrbot_workshop import tracks
+from rrbot_workshop.grading import graded
+
+
+@pytest.fixture
+def broken():
+    raise RuntimeError("fixture broke")
+
+
+@graded(points=2, hint="always fine")
+def test_passes():
+    assert (tracks.task_dir(5) / "answer.txt").read_text().strip() == "42"
+
+
+@graded(points=3, hint="the answer is 43")
+def test_fails():
+    assert 1 == 2, "one is not two"
+
+
+@graded(points=1, hint="loops forever")
+def test_endless_loop():
+    while True:
+        try:
+            pass
+        except Exception:
+            pass
+
+
+@graded(points=1, hint="needs the fixture")
+def test_setup_error(broken):
+    pass
+
+
+@graded(points=1, hint="skipped")
+def test_skipped():
+    pytest.skip("not today")
+
+
+def test_undecorated():
+    """Plain tests count one point."""
+    assert True
+'''
+
+
+@pytest.fixture
+def course(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
+    """A tiny course with one task (5) whose grader has passing, failing, looping and erroring checks."""
+    root = tmp_path / "course"
+    (root / "tests" / "tasks").mkdir(parents=True)
+    (root / "tests" / "tasks" / "test_task05_fake.py").write_text(_GRADER)
+    for track in tracks.TRACKS:
+        (root / track / "task05_fake").mkdir(parents=True)
+        (root / track / "task05_fake" / "answer.txt").write_text("42\n" if track == "solutions" else "?\n")
+    monkeypatch.setenv(tracks.ROOT_ENV, str(root))
+    monkeypatch.delenv(tracks.TRACK_ENV, raising=False)
+    monkeypatch.delenv(tracks.TASK_ROOT_ENV, raising=False)
+    tracks.set_track(None)
+    return root
+
+
+@pytest.fixture(scope="module")
+def solved(tmp_path_factory: pytest.TempPathFactory) -> Rubric:
+    """The fake grader run once on the solutions track (shared: each run is a subprocess)."""
+    root = tmp_path_factory.mktemp("solved") / "course"
+    (root / "tests" / "tasks").mkdir(parents=True)
+    (root / "tests" / "tasks" / "test_task05_fake.py").write_text(_GRADER)
+    (root / "solutions" / "task05_fake").mkdir(parents=True)
+    (root / "solutions" / "task05_fake" / "answer.txt").write_text("42\n")
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setenv(tracks.ROOT_ENV, str(root))
+        mp.delenv(tracks.TASK_ROOT_ENV, raising=False)
+        return grade(5, track="solutions", check_timeout=1.0)
+
+
+# ------------------------------------------------------------------------------------------- decorator, rubric
+
+
+def test_graded_attaches_points_and_hint() -> None:
+    @graded(points=2.5, hint="read the spec")
+    def test_x() -> None: ...
+
+    spec = check_spec(test_x)
+    assert (spec.points, spec.hint) == (2.5, "read the spec")
+
+
+def test_undecorated_test_is_worth_default_points_with_docstring_hint() -> None:
+    def test_y() -> None:
+        """First line.
+
+        More.
+        """
+
+    assert check_spec(test_y).points == DEFAULT_POINTS
+    assert check_spec(test_y).hint == "First line."
+
+
+@pytest.mark.parametrize("points", [0, -1])
+def test_graded_rejects_non_positive_points(points: float) -> None:
+    with pytest.raises(ValueError, match="more than 0 points"):
+        graded(points=points)
+
+
+def test_rubric_json_has_exactly_the_documented_keys() -> None:
+    rubric = Rubric(task=3, checks=[CheckResult("a", 2, True), CheckResult("b", 3, False, hint="h", detail="d")])
+    data = json.loads(rubric.to_json())
+    assert data == {
+        "task": 3,
+        "score": 2,
+        "max_score": 5,
+        "checks": [
+            {"name": "a", "points": 2, "max_points": 2, "passed": True, "hint": ""},
+            {"name": "b", "points": 0.0, "max_points": 3, "passed": False, "hint": "h"},
+        ],
+    }
+
+
+def test_rubric_text_shows_hint_and_why_only_for_failures() -> None:
+    rubric = Rubric(task=3, title="task03_x", checks=[
+        CheckResult("good", 1, True), CheckResult("bad", 2, False, hint="do this", detail="because"),
+    ])
+    text = rubric.format()
+    assert "PASS  1/1  good" in text and "FAIL  0/2  bad" in text
+    assert "hint: do this" in text and "why:  because" in text
+    assert text.count("hint:") == 1
+    assert text.splitlines()[-1] == "Total: 1/3 points"
+
+
+def test_rubric_complete_only_when_every_check_passed() -> None:
+    assert Rubric(1, [CheckResult("a", 1, True)]).complete
+    assert not Rubric(1, [CheckResult("a", 1, True), CheckResult("b", 1, False)]).complete
+    assert not Rubric(1, []).complete
+
+
+# ------------------------------------------------------------------------------------------- runner + plugin
+
+
+def test_passing_check_earns_its_points(solved: Rubric) -> None:
+    by_name = {c.name: c for c in solved.checks}
+    assert by_name["passes"].passed and by_name["passes"].points == 2
+
+
+def test_failing_check_keeps_hint_and_assertion_message(solved: Rubric) -> None:
+    failed = {c.name: c for c in solved.checks}["fails"]
+    assert (failed.passed, failed.points, failed.hint) == (False, 0.0, "the answer is 43")
+    assert failed.detail == "one is not two"
+
+
+def test_endless_loop_fails_its_check_and_grading_goes_on(solved: Rubric) -> None:
+    """The per-check time limit interrupts a loop that even swallows Exception; later checks still run."""
+    loop = {c.name: c for c in solved.checks}["endless_loop"]
+    assert not loop.passed and "CheckTimeout" in loop.detail
+    assert {c.name: c for c in solved.checks}["undecorated"].passed
+
+
+def test_fixture_error_and_skip_count_as_failures(solved: Rubric) -> None:
+    by_name = {c.name: c for c in solved.checks}
+    assert not by_name["setup_error"].passed and "fixture broke" in by_name["setup_error"].detail
+    assert not by_name["skipped"].passed and "not today" in by_name["skipped"].detail
+
+
+def test_rubric_totals_and_order_follow_the_grader_file(solved: Rubric) -> None:
+    assert [c.name for c in solved.checks] == [
+        "passes", "fails", "endless_loop", "setup_error", "skipped", "undecorated"
+    ]
+    assert (solved.score, solved.max_score) == (3, 9)
+    assert solved.track == "solutions" and solved.title == "task05_fake"
+
+
+def test_exercises_track_is_graded_by_default(course: Path) -> None:
+    rubric = check(5, check_timeout=0.5)
+    assert not {c.name: c for c in rubric.checks}["passes"].passed
+
+
+def test_task_root_grades_a_copy(course: Path, tmp_path: Path) -> None:
+    """A folder of taskNN_* folders given as task_root is graded instead of the track's."""
+    copy = tmp_path / "upload" / "task05_fake"
+    copy.mkdir(parents=True)
+    (copy / "answer.txt").write_text("42")
+    rubric = grade(5, task_root=copy.parent, check_timeout=0.5)
+    assert {c.name: c for c in rubric.checks}["passes"].passed
+
+
+def test_whole_grader_time_limit_marks_unfinished_checks(course: Path) -> None:
+    (course / "tests" / "tasks" / "test_task05_fake.py").write_text(
+        "def test_first():\n    assert True\n\ndef test_hangs():\n    while True:\n        pass\n\n"
+        "def test_never_reached():\n    pass\n"
+    )
+    rubric = grade(5, check_timeout=0, total_timeout=3.0)
+    outcome = {c.name: (c.passed, c.detail) for c in rubric.checks}
+    assert list(outcome) == ["first", "hangs", "never_reached"]
+    assert not outcome["hangs"][0] and "stopped after 3 s" in outcome["hangs"][1]
+    assert not outcome["never_reached"][0]
+
+
+def test_grader_that_cannot_be_collected_raises_grading_error(course: Path) -> None:
+    (course / "tests" / "tasks" / "test_task05_fake.py").write_text("def broken(:\n")
+    with pytest.raises(GradingError, match="could not be collected"):
+        grade(5)
+
+
+def test_grader_without_checks_raises_grading_error(course: Path) -> None:
+    (course / "tests" / "tasks" / "test_task05_fake.py").write_text("X = 1\n")
+    with pytest.raises(GradingError, match="has no checks"):
+        grade(5)
+
+
+def test_unknown_task_lists_tasks_with_a_grader(course: Path) -> None:
+    with pytest.raises(CourseError, match="task05_fake") as info:
+        grader_path(7)
+    assert info.value.what == "task" and info.value.value == 7
+
+
+def test_grading_a_missing_track_folder_is_a_course_error(course: Path) -> None:
+    import shutil
+
+    shutil.rmtree(course / "solutions")
+    with pytest.raises(CourseError, match="no 'solutions/' folder"):
+        grade(5, track="solutions")
+
+
+def test_unknown_track_is_a_course_error(course: Path) -> None:
+    with pytest.raises(CourseError, match="unknown course track 'answers'"):
+        grade(5, track="answers")
+
+
+def test_graded_tasks_lists_grader_files(course: Path) -> None:
+    (course / "tests" / "tasks" / "test_task12_tips.py").write_text("def test_a():\n    pass\n")
+    (course / "tests" / "tasks" / "helpers.py").write_text("")
+    assert graded_tasks() == [5, 12]
+
+
+def test_grader_writes_no_bytecode_into_the_course(course: Path) -> None:
+    grade(5, track="solutions", check_timeout=0.5)
+    assert not list(course.rglob("__pycache__")) and not (course / ".pytest_cache").exists()
+
+
+def test_real_course_has_a_task01_grader() -> None:
+    """The repository's own task-1 grader is found without any registration."""
+    assert grader_path(1).name == "test_task01_description.py"
