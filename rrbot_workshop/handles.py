@@ -136,10 +136,18 @@ class Handle:
         """Store a new value."""
         self._value = value
 
-    # ros2_control Jazzy names
-    get_name = name.fget  # type: ignore[assignment]
-    get_prefix_name = prefix_name.fget  # type: ignore[assignment]
-    get_interface_name = interface_name.fget  # type: ignore[assignment]
+    # ros2_control Jazzy method names
+    def get_name(self) -> str:
+        """Full name, as :attr:`name`."""
+        return self._name
+
+    def get_prefix_name(self) -> str:
+        """Prefix name, as :attr:`prefix_name`."""
+        return self._prefix_name
+
+    def get_interface_name(self) -> str:
+        """Interface name, as :attr:`interface_name`."""
+        return self._interface_name
 
     def __repr__(self) -> str:
         return f"{type(self).__name__}({self._name!r}, value={self._value!r})"

@@ -326,7 +326,7 @@ def _coerce(owner: str, name: str, ptype: str, value: Any) -> Any:
             raise ParameterError(owner, name, f"must be of type {ptype}, got the bool {v!r}")
         if not isinstance(v, allowed):
             raise ParameterError(owner, name, f"must be of type {ptype}, got {type(v).__name__} {v!r}")
-        out.append(float(v) if float in allowed else v)
+        out.append(float(v) if float in allowed else v)  # type: ignore[arg-type]
     return out if ptype.endswith("_array") else out[0]
 
 
@@ -375,8 +375,8 @@ class ParamListener:
         for decl in self.schema.declarations:
             for name, value in self._expand(decl, root):
                 self._place(root, name, value)
-        for name in self.undeclared:
-            _log.warning("'%s' got parameter '%s', which it does not declare; it is ignored", self.owner, name)
+        for given in self.undeclared:
+            _log.warning("'%s' got parameter '%s', which it does not declare; it is ignored", self.owner, given)
         return self._to_params(root)
 
     def _expand(self, decl: _Decl, root: dict[str, Any]) -> list[tuple[tuple[str, ...], Any]]:

@@ -53,12 +53,14 @@ class ControllerHarness:
         self.update_rate = update_rate
         self.period = 1.0 / update_rate
         self.time = 0.0
-        self.states: dict[str, Handle] = {
-            k: StateInterface(*k.rsplit("/", 1), initial_value=v) for k, v in (state_values or {}).items()
-        }
-        self.commands: dict[str, Handle] = {
-            k: CommandInterface(*k.rsplit("/", 1), initial_value=v) for k, v in (command_values or {}).items()
-        }
+        self.states: dict[str, Handle] = {}
+        for key, value in (state_values or {}).items():
+            prefix, _, itf = key.rpartition("/")
+            self.states[key] = StateInterface(prefix, itf, initial_value=value)
+        self.commands: dict[str, Handle] = {}
+        for key, value in (command_values or {}).items():
+            prefix, _, itf = key.rpartition("/")
+            self.commands[key] = CommandInterface(prefix, itf, initial_value=value)
         result = controller.init(
             name, robot_description, update_rate, self.bus, dict(parameters or {}), clock=lambda: self.time
         )
@@ -70,10 +72,10 @@ class ControllerHarness:
         """Configure; for a chainable controller also collect its exported interfaces."""
         state = self.controller.configure()
         if state is State.INACTIVE and isinstance(self.controller, ChainableControllerInterface):
-            for h in self.controller.export_reference_interfaces():
-                self.commands[h.name] = h
-            for h in self.controller.export_state_interfaces():
-                self.states[h.name] = h
+            for ref in self.controller.export_reference_interfaces():
+                self.commands[ref.name] = ref
+            for exported in self.controller.export_state_interfaces():
+                self.states[exported.name] = exported
         return state
 
     def _names(self, config: Any, pool: Mapping[str, Handle]) -> list[str]:
