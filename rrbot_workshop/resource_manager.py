@@ -422,11 +422,15 @@ class ResourceManager:
                 return self._reject(
                     f"hardware component '{name}' is inactive; its command interfaces {start[name]} cannot be claimed"
                 )
+            impl = entry.component.impl
+            if hasattr(impl, "mode_switch_rejection"):
+                impl.mode_switch_rejection = ""
             result = self._call_hook(entry, "prepare_command_mode_switch", start.get(name, []), stop.get(name, []))
             if result is not ReturnType.OK:
+                why = getattr(impl, "mode_switch_rejection", "")
                 return self._reject(
                     f"hardware component '{name}' rejected the command mode switch "
-                    f"(start {start.get(name, [])}, stop {stop.get(name, [])})"
+                    f"(start {start.get(name, [])}, stop {stop.get(name, [])})" + (f": {why}" if why else "")
                 )
         return True
 

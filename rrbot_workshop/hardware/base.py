@@ -39,6 +39,9 @@ class HardwareComponentInterface:
         self._lifecycle_state: State = State.UNKNOWN
         self._state_handles: dict[str, StateInterface] = {}
         self._command_handles: dict[str, CommandInterface] = {}
+        #: Why the last ``prepare_command_mode_switch`` returned ERROR; the controller manager shows it to the
+        #: user in the switch error. Set it before returning ERROR.
+        self.mode_switch_rejection: str = ""
 
     # ----------------------------------------------------------------- identity
     def get_name(self) -> str:

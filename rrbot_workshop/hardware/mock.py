@@ -197,13 +197,15 @@ class GenericSystem(SystemInterface):
         for index, count in counts.items():
             joint = self.info.joints[index].name
             if count == 0:
-                self.logger.error(
-                    "joint '%s' needs one of the '%s', '%s' or '%s' command interfaces", joint, *_MODES
+                self.mode_switch_rejection = (
+                    f"joint '{joint}' needs one of the '{_MODES[0]}', '{_MODES[1]}' or '{_MODES[2]}' command interfaces"
                 )
-                result = ReturnType.ERROR
             elif count > 1:
-                self.logger.error("joint '%s' got %d control modes at once; only one is supported", joint, count)
-                result = ReturnType.ERROR
+                self.mode_switch_rejection = f"joint '{joint}' got {count} control modes at once; only one is supported"
+            else:
+                continue
+            self.logger.error("%s", self.mode_switch_rejection)
+            result = ReturnType.ERROR
         return result
 
     def perform_command_mode_switch(self, start_interfaces: list[str], stop_interfaces: list[str]) -> ReturnType:
