@@ -333,7 +333,8 @@ def _effective_rate(rate: int, cm_rate: int) -> int:
         return cm_rate
     if cm_rate % rate == 0:
         return rate
-    return round(cm_rate / round(cm_rate / rate))
+    # ros2_control divides unsigned integers here: 30 Hz on 200 Hz gives 200 // 7 = 28.
+    return cm_rate // round(cm_rate / rate)
 
 
 class ChainableControllerInterface(ControllerInterface):

@@ -325,3 +325,12 @@ def test_shutdown_unloads_everything() -> None:
     cm, _, _ = _two_hw_cm()
     cm.shutdown()
     assert cm.controllers == {} and not cm.resource_manager.command_interface_is_claimed("joint1/position")
+
+
+def test_non_divisor_rate_uses_integer_division_like_ros2_control() -> None:
+    """30 Hz on a 200 Hz loop: 200 // round(200 / 30) = 200 // 7 = 28 Hz (not 29)."""
+    from rrbot_workshop.controllers.base import _effective_rate
+
+    assert _effective_rate(30, 200) == 28
+    assert _effective_rate(0, 200) == 200
+    assert _effective_rate(500, 200) == 200
