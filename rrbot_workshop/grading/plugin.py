@@ -38,11 +38,16 @@ class CheckTimeout(BaseException):  # noqa: N818 - reads as an event, like Keybo
 
 
 def _first_line(text: str, limit: int = 300) -> str:
-    for line in text.strip().splitlines():
-        line = line.strip()
-        if line:
-            return line if len(line) <= limit else line[: limit - 3] + "..."
-    return ""
+    """The first non-empty line; a line ending in ':' (a list follows, as in SwitchError) takes the list along."""
+    lines = [line.strip() for line in text.strip().splitlines() if line.strip()]
+    if not lines:
+        return ""
+    out = lines[0]
+    for line in lines[1:]:
+        if not out.endswith(":") and not line.startswith("- "):
+            break
+        out = f"{out} {line}"
+    return out if len(out) <= limit else out[: limit - 3] + "..."
 
 
 def _describe(exc: BaseException) -> str:

@@ -253,3 +253,13 @@ def test_grader_writes_no_bytecode_into_the_course(course: Path) -> None:
 def test_real_course_has_a_task01_grader() -> None:
     """The repository's own task-1 grader is found without any registration."""
     assert grader_path(1).name == "test_task01_description.py"
+
+
+def test_failure_reason_keeps_the_reasons_listed_after_a_colon() -> None:
+    """A SwitchError's reasons (listed under its first line) reach the rubric's 'why' line."""
+    from rrbot_workshop.exceptions import SwitchError
+    from rrbot_workshop.grading.plugin import _first_line
+
+    text = _first_line(str(SwitchError(["'a' claims joint1/position", "'b' claims joint1/position"])))
+    assert "'a' claims joint1/position" in text and "'b' claims joint1/position" in text
+    assert _first_line("expected 1\nassert 0 == 1") == "expected 1"
