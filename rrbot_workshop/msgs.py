@@ -42,7 +42,21 @@ __all__ = [
     "Odometry",
     "SetBoolRequest",
     "SetBoolResponse",
+    "ros_type_name",
 ]
+
+
+def ros_type_name(msg_type: type) -> str:
+    """The ROS 2 name of a message class, e.g. ``"sensor_msgs/msg/JointState"`` for :class:`JointState`.
+
+    Read from the first ````pkg/msg/Name```` in the class docstring; a class without one gives its Python name.
+    """
+    doc = (msg_type.__doc__ or "").strip()
+    if doc.startswith("``"):
+        name = doc[2:].split("``", 1)[0]
+        if name.count("/") == 2:
+            return name
+    return msg_type.__name__
 
 
 def _nan() -> float:

@@ -15,6 +15,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from .exceptions import MessageError
+from .msgs import ros_type_name
 
 __all__ = ["TopicBus", "Node", "Publisher", "Subscription", "Service", "resolve_name"]
 
@@ -221,13 +222,14 @@ class TopicBus:
             self._history.pop(topic, None)
 
     def topic_names_and_types(self) -> list[tuple[str, str]]:
-        """Known topics with their message type names, sorted (``ros2 topic list -t``)."""
+        """Known topics with their ROS message type names, sorted (``ros2 topic list -t``)."""
         topics = set(self._types) | set(self._latest) | {t for t, s in self._subs.items() if s}
+
         def type_name(topic: str) -> str:
             if topic in self._types:
-                return self._types[topic].__name__
+                return ros_type_name(self._types[topic])
             if topic in self._latest:  # published from outside any node: the message tells its type
-                return type(self._latest[topic]).__name__
+                return ros_type_name(type(self._latest[topic]))
             return "?"
 
         return sorted((t, type_name(t)) for t in topics)

@@ -132,7 +132,7 @@ def test_topic_pub_then_echo(system, capsys) -> None:  # noqa: ANN001
     topic("echo /cmd --once")
     assert _out(capsys) == "data:\n- 0.7\n- 1.0\n---\n"
     topic("list -t")
-    assert "/cmd [Float64MultiArray]" in _out(capsys)
+    assert "/cmd [std_msgs/msg/Float64MultiArray]" in _out(capsys)
 
 
 def test_topic_errors_are_reported(system, capsys) -> None:  # noqa: ANN001

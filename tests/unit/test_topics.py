@@ -85,7 +85,7 @@ def test_topic_names_and_types_include_externally_published_topics() -> None:
     bus = TopicBus()
     bus.create_publisher(Float64, "/typed")
     bus.publish("/free", Float64MultiArray(data=[1.0]))
-    assert bus.topic_names_and_types() == [("/free", "Float64MultiArray"), ("/typed", "Float64")]
+    assert bus.topic_names_and_types() == [("/free", "std_msgs/msg/Float64MultiArray"), ("/typed", "std_msgs/msg/Float64")]
 
 
 def test_services_call_check_type_and_refuse_duplicates() -> None:
@@ -109,3 +109,28 @@ def test_node_expands_names_and_destroy_removes_its_endpoints() -> None:
     assert node.now() == 1.5 and node.get_fully_qualified_name() == "/fwd"
     node.destroy()
     assert bus.subscription_count("/fwd/commands") == 0 and bus.service_names() == []
+
+
+def test_every_message_class_has_its_ros_type_name() -> None:
+    """Each message dataclass maps to 'pkg/msg/Name' (or 'pkg/srv/Name' for service parts) with its own name."""
+    import dataclasses
+
+    from rrbot_workshop import msgs
+
+    for name in msgs.__all__:
+        cls = getattr(msgs, name)
+        if not dataclasses.is_dataclass(cls):
+            continue
+        pkg, kind, short = msgs.ros_type_name(cls).split("/")
+        assert kind in ("msg", "srv") and pkg.endswith("_msgs") or pkg == "std_srvs", name
+        assert name.startswith(short), name
+
+
+def test_topic_list_reports_ros_type_names() -> None:
+    """topic_names_and_types gives full ROS names, as `ros2 topic list -t` prints them."""
+    from rrbot_workshop.msgs import JointState
+    from rrbot_workshop.topics import TopicBus
+
+    bus = TopicBus()
+    bus.create_publisher(JointState, "/joint_states")
+    assert bus.topic_names_and_types() == [("/joint_states", "sensor_msgs/msg/JointState")]
