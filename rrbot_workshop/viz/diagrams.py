@@ -2,22 +2,30 @@
 
 * :func:`controller_chains` draws what ``ros2 control view_controller_chains`` draws: hardware state
   interfaces on the left, controllers in chain order (preceding controllers first), hardware command
-  interfaces on the right, and an arrow for every interface a controller writes or reads.
+  interfaces on the right, and an arrow for every interface a controller writes or reads. Solid arrows
+  are claims an active controller holds; an inactive controller's required command interfaces (what it
+  would claim once activated) are grey and dashed.
 * :func:`architecture` draws the controller manager with its controllers above the resource manager
   with its hardware components and their interfaces, linked by the claims between them.
 * :func:`lifecycle_states` places every controller and hardware component in its lifecycle state.
 
 Each returns an :class:`~rrbot_workshop.viz.svg.SvgDiagram` (shown inline by Jupyter, ``.save(path)``).
-The input is the system's introspection answers only (``list_controllers``, ``list_hardware_components``,
-``list_hardware_interfaces``), so the pictures show what a learner can query, nothing more.
+The input is the system's introspection answers (``list_controllers``, ``list_hardware_components``,
+``list_hardware_interfaces``), so the pictures show what a learner can query. One exception: for an
+active controller of a running system, the state interfaces drawn are those it holds on loan
+(``controller.state_interfaces``, as a learner can also look up). ``list_controllers`` reports an
+active controller whose state interface configuration is ALL (``joint_state_broadcaster``) as requiring
+every state interface available *now*, including state interfaces that chainable controllers exported
+after it was activated and that it never received; ros2_control's own service does the same.
 """
 
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
+from ..exceptions import ControllerNotFound
 from .snapshot import ControllerView, Snapshot, take_snapshot
 from .svg import FONT_SIZE, LINE_HEIGHT, STATE_COLORS, SvgCanvas, SvgDiagram, text_width
 
@@ -28,6 +36,8 @@ _GAP_X = 130.0
 _GAP_Y = 22.0
 _STATE_EDGE = "#8e24aa"
 _COMMAND_EDGE = "#455a64"
+_REQUIRED_EDGE = "#9e9e9e"
+_REQUIRED_LABEL = "required (not claimed: controller inactive)"
 
 
 @dataclass
@@ -41,6 +51,39 @@ class _Box:
 
 def _colors(state: str) -> tuple[str, str]:
     return STATE_COLORS.get(state, STATE_COLORS["unknown"])
+
+
+def _claims(c: ControllerView) -> tuple[tuple[str, ...], tuple[str, ...]]:
+    """``(claimed, would_claim)``: the command interfaces an active controller holds, or those an inactive
+    controller requires (and would claim once activated). Other states hold and require nothing."""
+    if c.state == "active":
+        return c.claimed_interfaces, ()
+    if c.state == "inactive":
+        return (), c.required_command_interfaces
+    return (), ()
+
+
+def _snapshot(source: Any, controllers: Sequence[Any] | None, components: Sequence[Any] | None) -> Snapshot:
+    """The introspection snapshot, with each active controller's state interfaces replaced by its loans.
+
+    Only when the controllers come from a running ``source``: given ``list_controllers`` entries are
+    drawn as they are (their ``required_state_interfaces`` is the best there is).
+    """
+    snap = take_snapshot(source, controllers=controllers, components=components)
+    get_controller = getattr(getattr(source, "controller_manager", source), "get_controller", None)
+    if controllers is not None or get_controller is None:
+        return snap
+    views = []
+    for c in snap.controllers:
+        if c.state == "active":
+            try:
+                loans = getattr(get_controller(c.name), "state_interfaces", None)
+            except ControllerNotFound:  # unloaded between the two calls: keep what list_controllers said
+                loans = None
+            if loans is not None:
+                c = replace(c, required_state_interfaces=tuple(str(loan.name) for loan in loans))
+        views.append(c)
+    return replace(snap, controllers=views)
 
 
 def _measure(title: str, subtitle: str, rows: Sequence[tuple[str, str, str]], min_width: float = 150.0) -> tuple[float, float]:
@@ -111,7 +154,7 @@ def _controller_rows(c: ControllerView, refs: dict[str, Any], exps: dict[str, An
         rows.append((f"in:{i}", f"{i} ({'exp state' if i in exps else 'state'})", "in"))
     for r in sorted(c.reference_interfaces):
         rows.append((f"ref:{r}", f"{r} (ref)", "in"))
-    for i in sorted(c.required_command_interfaces):
+    for i in sorted({*c.required_command_interfaces, *c.claimed_interfaces}):
         rows.append((f"out:{i}", f"{i} (cmd)", "out"))
     for e in sorted(c.exported_state_interfaces):
         rows.append((f"exp:{e}", f"{e} (exp state)", "out"))
@@ -129,19 +172,21 @@ def controller_chains(
         components: ``list_hardware_components()`` entries, instead of asking ``source``.
 
     Returns:
-        The diagram. Solid arrows: commands (to hardware or to a following controller's reference);
-        dashed arrows: state interfaces read.
+        The diagram. Solid arrows: command interfaces an active controller has claimed (from
+        ``claimed_interfaces``; to hardware or to a following controller's reference); grey dashed arrows:
+        command interfaces an inactive controller requires, not claimed; purple dashed arrows: state
+        interfaces read (an active controller's loans when ``source`` is a running system).
 
     Raises:
         TypeError: If neither a source nor both lists are given.
     """
-    snap = take_snapshot(source, controllers=controllers, components=components)
+    snap = _snapshot(source, controllers, components)
     refs, exps = snap.reference_owners(), snap.exported_state_owners()
     hw_states = {s for comp in snap.components for s in comp.state_interfaces}
     hw_commands = {n for comp in snap.components for n, _ in comp.command_interfaces}
     for c in snap.controllers:  # interfaces a controller names but no component lists (still draw them)
         hw_states |= {i for i in c.required_state_interfaces if i not in exps}
-        hw_commands |= {i for i in c.required_command_interfaces if i not in refs}
+        hw_commands |= {i for i in (*c.required_command_interfaces, *c.claimed_interfaces) if i not in refs}
 
     canvas = SvgCanvas()
     top = 16.0
@@ -179,23 +224,33 @@ def controller_chains(
             else:
                 x1, y1 = state_box.x + state_box.w, state_box.rows[f"s:{i}"]
             canvas.curve(x1, y1, box.x, box.rows[f"in:{i}"], color=_STATE_EDGE, dash=True)
-        for i in c.required_command_interfaces:
+        claimed, would_claim = _claims(c)
+        for i, is_claimed in [*((i, True) for i in claimed), *((i, False) for i in would_claim)]:
             x1, y1 = box.x + box.w, box.rows[f"out:{i}"]
             if i in refs:
                 owner, reference = refs[i]
                 dst = boxes[owner]
-                canvas.curve(x1, y1, dst.x, dst.rows[f"ref:{reference}"], color=_COMMAND_EDGE)
+                x2, y2 = dst.x, dst.rows[f"ref:{reference}"]
             else:
-                canvas.curve(x1, y1, command_box.x, command_box.rows[f"c:{i}"], color=_COMMAND_EDGE)
-    _legend(canvas, 16.0, canvas.height + 24.0)
+                x2, y2 = command_box.x, command_box.rows[f"c:{i}"]
+            if is_claimed:
+                canvas.curve(x1, y1, x2, y2, color=_COMMAND_EDGE)
+            else:
+                canvas.curve(x1, y1, x2, y2, color=_REQUIRED_EDGE, dash=True, head=_REQUIRED_EDGE)
+    required = any(_claims(c)[1] for c in snap.controllers)
+    _legend(canvas, 16.0, canvas.height + 24.0, required=required)
     return SvgDiagram(canvas.document("controller chains"), "controller chains")
 
 
-def _legend(canvas: SvgCanvas, x: float, y: float) -> None:
+def _legend(canvas: SvgCanvas, x: float, y: float, required: bool = False) -> None:
+    """Arrow styles and state colours; the grey "required" entry only when such arrows are drawn."""
     canvas.curve(x, y, x + 40, y, color=_COMMAND_EDGE)
     canvas.text(x + 48, y + 4, "command (claimed command or reference interface)", size=FONT_SIZE - 1)
     canvas.curve(x, y + 18, x + 40, y + 18, color=_STATE_EDGE, dash=True)
     canvas.text(x + 48, y + 22, "state interface read", size=FONT_SIZE - 1)
+    if required:
+        canvas.curve(x, y + 36, x + 40, y + 36, color=_REQUIRED_EDGE, dash=True, head=_REQUIRED_EDGE)
+        canvas.text(x + 48, y + 40, _REQUIRED_LABEL, size=FONT_SIZE - 1)
     cx = x + 420
     for state in ("active", "inactive", "unconfigured"):
         fill, stroke = _colors(state)
@@ -211,8 +266,9 @@ def architecture(
 
     The controller manager (with its controllers, in chain order) sits above the resource manager (with
     its hardware components and their command and state interfaces; claimed ones are marked). Arrows
-    join each controller to the components whose interfaces it claims or reads, and chained controllers
-    to each other.
+    join each controller to the components whose interfaces it claims (solid) or reads (purple dashed),
+    and chained controllers to each other; an inactive controller is joined by a grey dashed arrow to
+    the components whose command interfaces it requires but has not claimed.
 
     Args:
         source: A running ``System`` or its ``ControllerManager``.
@@ -222,7 +278,7 @@ def architecture(
     Raises:
         TypeError: If neither a source nor both lists are given.
     """
-    snap = take_snapshot(source, controllers=controllers, components=components)
+    snap = _snapshot(source, controllers, components)
     refs = snap.reference_owners()
     owner_of = snap.component_of()
     ranks = chain_ranks(snap)
@@ -283,13 +339,16 @@ def architecture(
                                           width=w, min_width=160.0)
         x += w + spacing
 
-    # Links: (controller, component, is_command); endpoints spread along the box edges.
-    links: list[tuple[str, str, bool]] = []
+    # Links: (controller, component, kind); endpoints spread along the box edges.
+    links: list[tuple[str, str, str]] = []
     for c in ordered:
-        for comp_name in sorted({owner_of[i] for i in c.required_command_interfaces if i in owner_of}):
-            links.append((c.name, comp_name, True))
+        claimed, would_claim = _claims(c)
+        for comp_name in sorted({owner_of[i] for i in claimed if i in owner_of}):
+            links.append((c.name, comp_name, "claimed"))
+        for comp_name in sorted({owner_of[i] for i in would_claim if i in owner_of}):
+            links.append((c.name, comp_name, "required"))
         for comp_name in sorted({owner_of[i] for i in c.required_state_interfaces if i in owner_of}):
-            links.append((c.name, comp_name, False))
+            links.append((c.name, comp_name, "state"))
     at_ctrl: dict[str, list[int]] = {}
     at_comp: dict[str, list[int]] = {}
     for k, (ctrl, comp_name, _) in enumerate(links):
@@ -299,18 +358,21 @@ def architecture(
     def spread(box: _Box, ends: list[int], k: int) -> float:
         return box.x + box.w * (ends.index(k) + 1) / (len(ends) + 1)
 
-    for k, (ctrl, comp_name, is_command) in enumerate(links):
+    for k, (ctrl, comp_name, kind) in enumerate(links):
         top, bottom = boxes[ctrl], comp_boxes[comp_name]
         x_top, x_bottom = spread(top, at_ctrl[ctrl], k), spread(bottom, at_comp[comp_name], k)
-        if is_command:
+        if kind == "claimed":
             canvas.curve(x_top, top.y + top.h, x_bottom, bottom.y, horizontal=False, color=_COMMAND_EDGE)
+        elif kind == "required":
+            canvas.curve(x_top, top.y + top.h, x_bottom, bottom.y, horizontal=False, color=_REQUIRED_EDGE,
+                         dash=True, head=_REQUIRED_EDGE)
         else:
             canvas.curve(x_bottom, bottom.y, x_top, top.y + top.h, horizontal=False, color=_STATE_EDGE, dash=True)
     for c in ordered:
         for owner in sorted({refs[i][0] for i in c.required_command_interfaces if i in refs}):
             a, b = boxes[c.name], boxes[owner]
             canvas.arc(a.x + a.w / 2, a.y, b.x + b.w / 2, b.y, rise=28.0, label="reference")
-    _legend(canvas, margin, rm_y + rm_h + 28.0)
+    _legend(canvas, margin, rm_y + rm_h + 28.0, required=any(kind == "required" for *_, kind in links))
     return SvgDiagram(canvas.document("ros2_control architecture"), "ros2_control architecture")
 
 

@@ -75,6 +75,7 @@ class SvgCanvas:
     def __init__(self) -> None:
         self._layers: dict[str, list[str]] = {"back": [], "edges": [], "front": []}
         self._items = self._layers["front"]
+        self._heads: dict[str, str] = {}  # extra arrowhead marker id -> fill colour
         self.width = 0.0
         self.height = 0.0
 
@@ -110,9 +111,12 @@ class SvgCanvas:
 
     def curve(
         self, x1: float, y1: float, x2: float, y2: float, *, color: str = "#455a64", dash: bool = False,
-        horizontal: bool = True, label: str = "",
+        horizontal: bool = True, label: str = "", head: str | None = None,
     ) -> None:
-        """An arrow from (x1, y1) to (x2, y2), bent as an S (horizontal or vertical tangents)."""
+        """An arrow from (x1, y1) to (x2, y2), bent as an S (horizontal or vertical tangents).
+
+        ``head`` colours the arrowhead; None keeps the default head (dark when solid, purple when dashed).
+        """
         if horizontal:
             bend = max(abs(x2 - x1) / 2.0, 30.0)
             c1, c2 = (x1 + bend, y1), (x2 - bend, y2)
@@ -122,6 +126,9 @@ class SvgCanvas:
             c1, c2 = (x1, y1 + sign * bend), (x2, y2 - sign * bend)
         extra = ' stroke-dasharray="5,3"' if dash else ""
         marker = "arrow-dash" if dash else "arrow"
+        if head is not None:
+            marker = "arrow-" + "".join(ch for ch in head if ch.isalnum())
+            self._heads[marker] = head
         self._layers["edges"].append(
             f'<path d="M {_n(x1)} {_n(y1)} C {_n(c1[0])} {_n(c1[1])}, {_n(c2[0])} {_n(c2[1])}, {_n(x2)} {_n(y2)}" '
             f'fill="none" stroke="{color}" stroke-width="1.3"{extra} marker-end="url(#{marker})"/>'
@@ -163,7 +170,12 @@ class SvgCanvas:
             'orient="auto-start-reverse"><path d="M 0 0 L 10 5 L 0 10 z" fill="#455a64"/></marker>'
             '<marker id="arrow-dash" viewBox="0 0 10 10" refX="9" refY="5" markerWidth="7" markerHeight="7" '
             'orient="auto-start-reverse"><path d="M 0 0 L 10 5 L 0 10 z" fill="#8e24aa"/></marker>'
-            "</defs>"
+            + "".join(
+                f'<marker id="{marker}" viewBox="0 0 10 10" refX="9" refY="5" markerWidth="7" markerHeight="7" '
+                f'orient="auto-start-reverse"><path d="M 0 0 L 10 5 L 0 10 z" fill="{fill}"/></marker>'
+                for marker, fill in sorted(self._heads.items())
+            )
+            + "</defs>"
         )
         body = "\n".join([*self._layers["back"], *self._layers["edges"], *self._layers["front"]])
         return (

@@ -18,7 +18,11 @@ _SVG = "{http://www.w3.org/2000/svg}"
 
 
 def _chain():
-    """JTC -> one PID per joint -> effort commands (task 9), plus JSB and two idle controllers."""
+    """JTC -> one PID per joint -> effort commands (task 9), plus JSB and two idle controllers.
+
+    As ``list_controllers`` reports them: an active controller's ``claimed_interfaces`` are its required
+    command interfaces; the inactive forward controller requires two but claims none.
+    """
     states = ["joint1/position", "joint1/velocity", "joint2/position", "joint2/velocity"]
     controllers = [
         ControllerState("joint_state_broadcaster", "active", "joint_state_broadcaster/JointStateBroadcaster",
@@ -27,10 +31,13 @@ def _chain():
                         "joint_trajectory_controller/JointTrajectoryController",
                         required_command_interfaces=["pid_controller_joint1/joint1/position",
                                                      "pid_controller_joint2/joint2/position"],
+                        claimed_interfaces=["pid_controller_joint1/joint1/position",
+                                            "pid_controller_joint2/joint2/position"],
                         required_state_interfaces=["joint1/position", "joint2/position"]),
         *(
             ControllerState(f"pid_controller_{j}", "active", "pid_controller/PidController", is_chainable=True,
                             is_chained=True, required_command_interfaces=[f"{j}/effort"],
+                            claimed_interfaces=[f"{j}/effort"],
                             required_state_interfaces=[f"{j}/position", f"{j}/velocity"],
                             reference_interfaces=[f"{j}/position"])
             for j in ("joint1", "joint2")
@@ -62,6 +69,25 @@ def _edges(diagram: SvgDiagram) -> list[ET.Element]:
     return [p for p in root.iter(f"{_SVG}path") if p.get("marker-end")]
 
 
+def _styled(diagram: SvgDiagram, color: str) -> list[ET.Element]:
+    """The arrows of one colour (legend samples included)."""
+    return [e for e in _edges(diagram) if e.get("stroke") == color]
+
+
+_CLAIMED, _REQUIRED, _READ = "#455a64", "#9e9e9e", "#8e24aa"
+_REQUIRED_LEGEND = "required (not claimed: controller inactive)"
+
+
+@pytest.fixture
+def rrbot():
+    """RRBot as at the end of task 2: broadcaster and forward controller active, trajectory controller inactive."""
+    system = rw.bringup("rrbot", "rrbot_controllers.yaml",
+                        spawn=["joint_state_broadcaster", "forward_position_controller"],
+                        inactive=["joint_trajectory_controller"], name="rrbot_diagrams")
+    yield system
+    system.shutdown()
+
+
 def test_chain_ranks_put_preceding_controllers_first():
     ranks = chain_ranks(take_snapshot(**_chain()))
     assert ranks["joint_trajectory_controller"] == 0
@@ -78,14 +104,107 @@ def test_chains_show_every_controller_and_interface():
     assert "tcp_fts_sensor/force.x" in texts  # hardware state interface
 
 
-def test_chains_draw_one_arrow_per_claim_and_read():
+def test_chains_draw_one_arrow_per_claim_requirement_and_read():
     chain = _chain()
-    claims = sum(len(c.required_command_interfaces) for c in chain["controllers"])
+    claims = sum(len(c.claimed_interfaces) for c in chain["controllers"])
+    required = sum(len(c.required_command_interfaces) for c in chain["controllers"] if c.state == "inactive")
     reads = sum(len(c.required_state_interfaces) for c in chain["controllers"])
     edges = _edges(controller_chains(**chain))
-    legend = 2
-    assert len(edges) == claims + reads + legend
-    assert sum(1 for e in edges if e.get("stroke-dasharray")) == reads + 1
+    legend = 3
+    assert len(edges) == claims + required + reads + legend
+    assert sum(1 for e in edges if e.get("stroke-dasharray")) == required + reads + 2
+
+
+def test_chains_draw_claimed_interfaces_solid():
+    diagram = controller_chains(**_chain())
+    claimed = _styled(diagram, _CLAIMED)
+    assert len(claimed) == 4 + 1  # JTC -> 2 references, PIDs -> 2 efforts, legend
+    assert all(e.get("stroke-dasharray") is None and e.get("marker-end") == "url(#arrow)" for e in claimed)
+
+
+def test_chains_draw_inactive_controllers_requirements_grey_dashed():
+    diagram = controller_chains(**_chain())
+    required = _styled(diagram, _REQUIRED)
+    assert len(required) == 2 + 1  # the inactive forward controller's two positions, legend
+    assert all(e.get("stroke-dasharray") and e.get("marker-end") == "url(#arrow-9e9e9e)" for e in required)
+    assert _REQUIRED_LEGEND in _texts(diagram)
+    assert 'id="arrow-9e9e9e"' in diagram.svg  # its arrowhead is defined
+
+
+def test_chains_draw_an_active_controllers_claims_not_its_requirements():
+    """Only ``claimed_interfaces`` of an active controller become solid arrows."""
+    chain = _chain()
+    chain["controllers"] = [ControllerState("forward_position_controller", "active", "fcc",
+                                            required_command_interfaces=["joint1/position", "joint2/position"],
+                                            claimed_interfaces=["joint1/position"])]
+    diagram = controller_chains(**chain)
+    assert len(_styled(diagram, _CLAIMED)) == 1 + 1
+    assert _styled(diagram, _REQUIRED) == []
+
+
+def test_chains_without_inactive_requirements_have_no_required_legend():
+    chain = _chain()
+    chain["controllers"] = [c for c in chain["controllers"] if c.state != "inactive"]
+    diagram = controller_chains(**chain)
+    assert _REQUIRED_LEGEND not in _texts(diagram)
+    assert _styled(diagram, _REQUIRED) == []
+    assert "arrow-9e9e9e" not in diagram.svg
+
+
+def test_chains_of_running_rrbot_separate_claims_from_requirements(rrbot):
+    """Forward controller's two claims are solid; the inactive trajectory controller's two are grey dashed."""
+    diagram = controller_chains(rrbot)
+    assert len(_styled(diagram, _CLAIMED)) == 2 + 1
+    assert len(_styled(diagram, _REQUIRED)) == 2 + 1
+    assert all(e.get("stroke-dasharray") is None for e in _styled(diagram, _CLAIMED))
+    assert all(e.get("stroke-dasharray") for e in _styled(diagram, _REQUIRED))
+
+
+def test_chains_of_running_rrbot_are_deterministic(rrbot):
+    assert controller_chains(rrbot).svg == controller_chains(rrbot).svg
+
+
+def test_chains_draw_the_state_interfaces_an_active_controller_holds():
+    """The broadcaster (ALL) activated before the PIDs holds no PID export, although list_controllers lists them."""
+    chain = rw.bringup("rrbot", "rrbot_chained_controllers.yaml", xacro_args={"calculate_dynamics": True},
+                       spawn=["joint_state_broadcaster", "pid_controller_joint1", "pid_controller_joint2",
+                              "joint_trajectory_controller"], name="rrbot_diagrams_chain")
+    try:
+        listed = {c.name: c for c in chain.controller_manager.list_controllers()}
+        export = "pid_controller_joint1/joint1/position"
+        assert export in listed["joint_state_broadcaster"].required_state_interfaces
+        loans = chain.controller_manager.get_controller("joint_state_broadcaster").state_interfaces
+        assert export not in [loan.name for loan in loans]
+        texts = _texts(controller_chains(chain))
+        assert f"{export} (exp state)" not in texts  # not a row of the broadcaster
+        assert "joint1/position (exp state)" in texts  # still exported by the PID
+        assert len(_styled(controller_chains(chain), _READ)) == len(loans) + 4 + 2 + 1  # + JTC, PIDs, legend
+    finally:
+        chain.shutdown()
+
+
+def test_chains_from_given_lists_draw_required_state_interfaces():
+    """Without a running system the listed ``required_state_interfaces`` are all there is to draw."""
+    chain = _chain()
+    reads = sum(len(c.required_state_interfaces) for c in chain["controllers"])
+    assert len(_styled(controller_chains(**chain), _READ)) == reads + 1
+
+
+def test_architecture_draws_inactive_controllers_requirements_grey_dashed(rrbot):
+    diagram = architecture(rrbot)
+    required = _styled(diagram, _REQUIRED)
+    assert len(required) == 1 + 1  # trajectory controller -> rrbot, legend
+    assert all(e.get("stroke-dasharray") for e in required)
+    assert len(_styled(diagram, _CLAIMED)) == 1 + 1  # forward controller -> rrbot, legend
+    assert _REQUIRED_LEGEND in _texts(diagram)
+
+
+def test_architecture_without_inactive_controllers_has_no_required_legend():
+    chain = _chain()
+    chain["controllers"] = [c for c in chain["controllers"] if c.state != "inactive"]
+    diagram = architecture(**chain)
+    assert _REQUIRED_LEGEND not in _texts(diagram)
+    assert _styled(diagram, _REQUIRED) == []
 
 
 def test_architecture_shows_managers_components_and_claims():
