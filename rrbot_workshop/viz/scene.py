@@ -17,7 +17,7 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["Scene", "ZmqConnection"]
+__all__ = ["Scene", "ZmqConnection", "ground_grid"]
 
 with warnings.catch_warnings():
     # meshcat 0.3.2 imports zmq.eventloop.ioloop, deprecated since pyzmq 17; nothing we can change.
@@ -50,6 +50,49 @@ def stable_uuids(element: Any, key: str) -> None:
         sub = getattr(element, part, None)
         if sub is not None and hasattr(sub, "uuid"):
             sub.uuid = str(uuid.uuid5(_UUID_NAMESPACE, f"{key}#{part}"))
+
+
+def ground_grid(size: float = 20.0, divisions: int = 40) -> Any:
+    """A square ground grid in the xy plane, centred on the origin, built from one segment per cell edge.
+
+    It looks like meshcat's default ``/Grid`` (a three.js ``GridHelper`` of the same size, darker
+    centre lines) but is made of short segments instead of lines spanning the whole grid. Software
+    WebGL (SwiftShader, as in headless Chromium; GPU-less virtual machines show the same) was seen to
+    drop a whole line segment as soon as one of its ends is behind the camera. With the camera
+    standing inside the grid, as it does when a robot is framed, every full-length line has such an
+    end, so only a band of far lines was left, seemingly floating behind the robot. Short segments
+    lose only the pieces next to the camera, which are out of view anyway.
+
+    Args:
+        size: Side length of the grid in [m].
+        divisions: Cells along each side.
+
+    Returns:
+        A ``meshcat.geometry.LineSegments`` to put at ``"/Grid"`` (replacing the default grid).
+
+    Raises:
+        ValueError: If ``size`` is not positive or ``divisions`` is below 1.
+    """
+    import meshcat.geometry as g
+
+    if not size > 0:
+        raise ValueError(f"grid size must be > 0 m, got {size}")
+    if divisions < 1:
+        raise ValueError(f"grid divisions must be >= 1, got {divisions}")
+    ticks = np.linspace(-size / 2.0, size / 2.0, divisions + 1)
+    starts, ends = ticks[:-1], ticks[1:]
+    across, along = np.meshgrid(ticks, np.arange(divisions), indexing="ij")  # (line, piece)
+    a, b = across.ravel(), along.ravel()
+    zeros = np.zeros_like(a)
+    # Segments parallel to x (fixed y = tick), then parallel to y (fixed x = tick): start, end, start, ...
+    x_lines = np.stack([np.stack([starts[b], a, zeros], 1), np.stack([ends[b], a, zeros], 1)], 1)
+    y_lines = np.stack([np.stack([a, starts[b], zeros], 1), np.stack([a, ends[b], zeros], 1)], 1)
+    vertices = np.concatenate([x_lines, y_lines]).reshape(-1, 3)
+    centre = np.isclose(np.concatenate([a, a]), 0.0, atol=size * 1e-9)
+    shade = np.where(np.repeat(centre, 2), 0x44 / 255.0, 0x88 / 255.0)
+    colors = np.repeat(shade[:, None], 3, axis=1)
+    geometry = g.PointsGeometry(vertices.T.astype(np.float32), colors.T.astype(np.float32))
+    return g.LineSegments(geometry, g.LineBasicMaterial(vertexColors=True))
 
 
 class ZmqConnection:

@@ -27,11 +27,14 @@ from typing import Any
 import numpy as np
 
 from .robot_model import RobotModel, VisualShape, load_urdf_text
-from .scene import Scene, ZmqConnection
+from .scene import Scene, ZmqConnection, ground_grid
 
 __all__ = ["Viewer"]
 
 _log = logging.getLogger(__name__)
+
+# Scene paths: robots go under /meshcat; /Grid and /Axes are meshcat's default ground grid and axes.
+_ROBOTS, _GRID, _AXES = "/meshcat", "/Grid", "/Axes"
 
 # URDF cylinders run along z, three.js cylinders along y.
 _CYLINDER_Z_TO_Y = np.array([[1, 0, 0, 0], [0, 0, -1, 0], [0, 1, 0, 0], [0, 0, 0, 1]], dtype=float)
@@ -72,7 +75,7 @@ class Viewer:
         else:
             urdf, base_dir = load_urdf_text(source)
         self.model = RobotModel(urdf, base_dir=base_dir)
-        self._root = "/meshcat/" + (prefix or self.model.name).strip("/")
+        self._root = f"{_ROBOTS}/" + (prefix or self.model.name).strip("/")
         self._server: Any = None
         connection = None
         if open_server:
@@ -140,14 +143,20 @@ class Viewer:
         meshcat's orbit controls always aim at the world origin and offer no way to move that
         target, so the scene (robot, grid and axes) is shifted instead: the robot's bounding box
         centre lands on the origin, and the camera is placed at a distance where the box fits the
-        75 degree field of view, looking from the front-left, a little above.
+        75 degree field of view, looking from the front-left, a little above. The grid and axes get
+        the same shift as ``/meshcat``, so they lie at z = 0 of the URDF's world, under the robot.
+
+        The default grid is replaced by :func:`~rrbot_workshop.viz.scene.ground_grid` (same look,
+        short segments): the camera stands inside the grid, and software WebGL (headless Chromium)
+        drops every full-length grid line that reaches behind it.
         """
         lower, upper = self.model.bounds()
         centre = (lower + upper) / 2.0
         radius = max(float(np.linalg.norm(upper - lower)) / 2.0, 0.25)
         shift = np.eye(4)
         shift[:3, 3] = -centre
-        for root in ("/meshcat", "/Grid", "/Axes"):
+        self.scene.set_object(_GRID, ground_grid())
+        for root in (_ROBOTS, _GRID, _AXES):
             self.scene.set_transform(root, shift)
         distance = 1.15 * radius / math.sin(math.radians(75.0 / 2.0))
         direction = np.array([0.55, -1.0, 0.35])

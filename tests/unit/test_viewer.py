@@ -240,6 +240,96 @@ def test_recorded_animation_is_in_the_export(tmp_path: Path):
     assert "set_animation" in kinds
 
 
+def _sent(commands: list[bytes]) -> dict[tuple[str, str], dict]:
+    """Decoded meshcat commands keyed by (type, path); a later command replaces an earlier one."""
+    import umsgpack
+
+    out = {}
+    for raw in commands:
+        data = umsgpack.unpackb(raw)
+        out[(data["type"], data.get("path", ""))] = data
+    return out
+
+
+def _column_major(matrix: list[float]) -> np.ndarray:
+    return np.asarray(matrix, dtype=float).reshape(4, 4).T
+
+
+def test_grid_and_axes_get_the_same_shift_as_the_robot():
+    """/Grid and /Axes carry the /meshcat transform, so the grid lies at the URDF world's z = 0."""
+    viewer = _offline()
+    sent = _sent(viewer.scene.commands())
+    robots = _column_major(sent[("set_transform", "/meshcat")]["matrix"])
+    lower, upper = viewer.model.bounds()
+    assert np.allclose(robots[:3, 3], -(lower + upper) / 2.0)  # robot centre on the orbit point
+    for root in ("/Grid", "/Axes"):
+        assert np.allclose(_column_major(sent[("set_transform", root)]["matrix"]), robots), root
+
+
+def test_default_grid_is_replaced_by_short_segments_on_the_ground():
+    """The /Grid object is a 20 m ground grid whose segments are each one 0.5 m cell edge long."""
+    viewer = _offline()
+    grid = _sent(viewer.scene.commands())[("set_object", "/Grid")]["object"]
+    assert grid["object"]["type"] == "LineSegments"
+    array = grid["geometries"][0]["data"]["attributes"]["position"]["array"]
+    vertices = np.frombuffer(array.data, dtype=np.float32).reshape(-1, 3)
+    lengths = np.linalg.norm(vertices[1::2] - vertices[0::2], axis=1)
+    assert np.allclose(lengths, 0.5)
+    assert np.allclose(vertices[:, 2], 0.0)
+    assert np.allclose(vertices.min(axis=0)[:2], -10.0) and np.allclose(vertices.max(axis=0)[:2], 10.0)
+
+
+def test_ground_grid_covers_every_cell_edge_once():
+    """A 2 x 2 grid has 12 unit segments: 3 lines of 2 pieces in each direction."""
+    from rrbot_workshop.viz.scene import ground_grid
+
+    vertices = ground_grid(size=2.0, divisions=2).geometry.position.T
+    segments = {tuple(sorted((tuple(a), tuple(b)))) for a, b in zip(vertices[0::2], vertices[1::2], strict=True)}
+    assert len(vertices) == 24 and len(segments) == 12
+
+
+@pytest.mark.parametrize(("size", "divisions", "field"), [(0.0, 4, "size"), (2.0, 0, "divisions")])
+def test_ground_grid_rejects_an_empty_grid(size: float, divisions: int, field: str):
+    from rrbot_workshop.viz.scene import ground_grid
+
+    with pytest.raises(ValueError, match=field):
+        ground_grid(size=size, divisions=divisions)
+
+
+def test_live_view_gets_the_same_grid_and_shift(monkeypatch: pytest.MonkeyPatch):
+    """With a server, the commands sent to it replace and shift the grid as the export does."""
+    from rrbot_workshop.viz import viewer as viewer_module
+
+    frames: list[list[bytes]] = []
+
+    class _Server:
+        zmq_url, web_url, pid = "tcp://127.0.0.1:1", "http://127.0.0.1:1/static/", 0
+
+        def close(self) -> None:
+            pass
+
+    class _Connection:
+        def __init__(self, zmq_url: str) -> None:
+            self.broken = False
+
+        def send(self, message: list[bytes]) -> bytes:
+            frames.append(message)
+            return b"ok"
+
+        def close(self) -> None:
+            pass
+
+    monkeypatch.setattr(meshcat_server, "MeshcatServer", _Server)
+    monkeypatch.setattr(viewer_module, "ZmqConnection", _Connection)
+    viewer = Viewer(TWO_LINK_URDF)
+    live = _sent([message[2] for message in frames])
+    viewer.close()
+    exported = _sent(_offline().scene.commands())
+    assert live[("set_object", "/Grid")] == exported[("set_object", "/Grid")]
+    for root in ("/meshcat", "/Grid", "/Axes"):
+        assert live[("set_transform", root)]["matrix"] == exported[("set_transform", root)]["matrix"], root
+
+
 def test_show_without_server_embeds_the_static_page():
     shown = _offline().show()
     assert "srcdoc=" in shown.data and "MeshCat" in shown.data

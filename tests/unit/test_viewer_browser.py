@@ -75,3 +75,24 @@ def test_recorded_animation_renders_the_robot(tmp_path: Path):
     assert blue.sum() > 100, f"only {blue.sum()} blue pixels: tool ball not drawn"
     ys, xs = np.nonzero(orange)
     assert 100 < xs.mean() < 700 and 50 < ys.mean() < 550  # framed, not at the edge
+
+
+def test_ground_grid_fills_the_view_below_the_robot(tmp_path: Path):
+    """Grid lines cross every row and every quarter of the bottom of the view (the ground in front of the robot).
+
+    Before the grid was cut into short segments, SwiftShader dropped every line reaching behind the
+    camera and only a band of far lines was left, level with the middle of the robot.
+    """
+    viewer = Viewer(URDF, open_server=False)
+    html = viewer.save_html(tmp_path / "still.html")
+    png = tmp_path / "still.png"
+    _screenshot(html, png, tmp_path / "profile")
+    assert png.is_file(), "Chromium wrote no screenshot"
+
+    from PIL import Image
+
+    bottom = np.asarray(Image.open(png).convert("RGB"), dtype=float)[450:]
+    background = np.median(bottom, axis=1, keepdims=True)  # the gradient is constant along a row
+    lines = np.abs(bottom - background).sum(axis=2) > 30
+    assert lines.any(axis=1).all(), "rows at the bottom of the view without a grid line"
+    assert all(lines[:, i * 200:(i + 1) * 200].any() for i in range(4)), "grid missing in part of the view"
