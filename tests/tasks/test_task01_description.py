@@ -7,11 +7,16 @@ The specification (from the ROSCon 2022 workshop, task 1):
 * link1 a cylinder 0.5 m long, 0.1 m radius; joint2 at its top, turning about an axis orthogonal to it,
   limits -60 deg to 240 deg, 180 deg/s; link2 0.6 m long, 0.1 m x 0.1 m cross-section; tool0 at its tip.
   At zero, link2 is horizontal; a positive joint2 angle lifts it (at +90 deg it points straight up);
+* tool0 is turned as in the original workshop (``link2-tool0`` rpy ``0 -pi -pi/2``): its z axis points back along
+  link2 towards joint2, its x axis along joint2's axis. It is the force-torque sensor's frame, so this fixes what
+  fx ... tz mean. Two more frames, as in the original: ``base`` on base_link and ``flange`` on tool0;
 * every link with a body has an inertia;
 * ``<ros2_control>``: joint1 and joint2 with a position command interface and position, velocity and
   acceleration state interfaces; sensor ``tcp_fts_sensor`` with fx, fy, fz, tx, ty, tz and ``frame_id`` tool0;
   GPIO ``flange_gpios`` with inputs digital_in_1/2 and outputs digital_out_1/2 that can be read back;
-* the ``prefix`` argument prefixes every link and joint (and the sensor's frame).
+* the ``prefix`` argument prefixes every name: links, joints, the sensor's frame, and in ``<ros2_control>`` the
+  tag's own name (the hardware component), the joints, the sensor and the GPIO. The original workshop prefixed only
+  links and joints, so two robots collided; the course requires the full prefix.
 
 The checks look at behaviour (forward kinematics, parsed interfaces), not at how the files are written.
 """
@@ -138,12 +143,14 @@ def test_description_processes(model: yourdfpy.URDF) -> None:
 
 
 @graded(points=2, hint="The chain is base_link -joint1-> link1 -joint2-> link2 -> tool0; joint1 and joint2 are "
-        "revolute, tool0 hangs on link2 by a fixed joint.")
+        "revolute, tool0 hangs on link2 by a fixed joint. Two more frames hang by fixed joints: base on base_link "
+        "and flange on tool0.")
 def test_links_and_joints(model: yourdfpy.URDF) -> None:
-    for link in ("base_link", "link1", "link2", "tool0"):
+    for link in ("base_link", "link1", "link2", "tool0", "base", "flange"):
         _link(model, link)
     chain = {j.child: j for j in model.robot.joints}
-    expected = [("tool0", "link2", "fixed"), ("link2", "link1", "revolute"), ("link1", "base_link", "revolute")]
+    expected = [("tool0", "link2", "fixed"), ("link2", "link1", "revolute"), ("link1", "base_link", "revolute"),
+                ("base", "base_link", "fixed"), ("flange", "tool0", "fixed")]
     for child, parent, kind in expected:
         assert child in chain, f"no joint has '{child}' as its child"
         assert chain[child].parent == parent, f"'{child}' must hang on '{parent}', not '{chain[child].parent}'"
@@ -207,6 +214,29 @@ def test_tool0_at_tip(model: yourdfpy.URDF) -> None:
     )
 
 
+@graded(points=2, hint="tool0 is turned as in the original workshop: link2-tool0 origin rpy='0 ${-pi} ${-pi / 2}'. "
+        "Its z axis then points back along link2 towards joint2 and its x axis along joint2's axis; the force-torque "
+        "sensor reports along these axes.")
+def test_tool0_orientation(model: yourdfpy.URDF) -> None:
+    tool0 = _frame(model, "tool0")
+    joint2, _ = _joint_world(model, "joint2")
+    along = tool0[:3, 3] - joint2
+    assert np.linalg.norm(along) > TOL, "tool0 must be at the tip of link2, away from joint2"
+    along /= np.linalg.norm(along)                      # from joint2 out to the tip, at zero: horizontal
+    lift_axis = np.cross(along, [0.0, 0.0, 1.0])        # the joint2 axis about which a positive angle lifts link2
+    x_axis, z_axis = tool0[:3, 0], tool0[:3, 2]
+    assert _close(z_axis, -along), (
+        f"at zero tool0's z axis is {np.round(z_axis, 3).tolist()} in the world, expected "
+        f"{np.round(-along, 3).tolist()} (back along link2, towards joint2)"
+    )
+    assert _close(x_axis, lift_axis), (
+        f"at zero tool0's x axis is {np.round(x_axis, 3).tolist()} in the world, expected "
+        f"{np.round(lift_axis, 3).tolist()} (along joint2's axis)"
+    )
+    for frame, on in (("flange", "tool0"), ("base", "base_link")):
+        assert _close(_frame(model, frame), _frame(model, on)), f"{frame} must coincide with {on} (a zero origin)"
+
+
 # --------------------------------------------------------------------------------------------- limits, inertia
 
 
@@ -252,8 +282,8 @@ def test_inertias(model: yourdfpy.URDF) -> None:
 # --------------------------------------------------------------------------------------------- <ros2_control>
 
 
-@graded(points=1, hint="Add one <ros2_control name='rrbot' type='system'> tag (instantiate the macro of "
-        "rrbot_macro.ros2_control.xacro in rrbot.urdf.xacro).")
+@graded(points=1, hint="Add one <ros2_control name='${prefix}${name}' type='system'> tag (instantiate the macro "
+        "of rrbot_macro.ros2_control.xacro in rrbot.urdf.xacro with name='rrbot'; with no prefix it is 'rrbot').")
 def test_ros2_control_tag(hardware: HardwareInfo) -> None:
     assert hardware.name == "rrbot", f"the <ros2_control> tag is named '{hardware.name}', expected 'rrbot'"
     assert hardware.type == "system", f"the <ros2_control> type is '{hardware.type}', expected 'system'"
@@ -317,8 +347,9 @@ def test_gpio_output_readback(hardware: HardwareInfo) -> None:
         assert name in states, f"flange_gpios has no state interface '{name}' to read the output back"
 
 
-@graded(points=2, hint="With prefix:=left_ every link (except world) and joint is named left_..., the "
-        "<ros2_control> joints are left_joint1 and left_joint2, and the FTS frame_id is left_tool0.")
+@graded(points=3, hint="With prefix:=left_ every name starts with left_: every link (except world) and joint; in "
+        "<ros2_control> the tag itself (name='${prefix}${name}', so left_rrbot), the joints left_joint1 and "
+        "left_joint2, the sensor left_tcp_fts_sensor with frame_id left_tool0, and the GPIO left_flange_gpios.")
 def test_prefix(prefixed_urdf: str) -> None:
     model = yourdfpy.URDF.load(io.StringIO(prefixed_urdf), build_scene_graph=False, load_meshes=False,
                                load_collision_meshes=False)
@@ -327,11 +358,23 @@ def test_prefix(prefixed_urdf: str) -> None:
     unprefixed = [n for n in links + joints if not n.startswith("left_")]
     assert links and not unprefixed, f"not prefixed with prefix:=left_: {unprefixed}"
     (hardware,) = parse_ros2_control(prefixed_urdf)
+    assert hardware.name == "left_rrbot", (
+        f"with prefix:=left_ the <ros2_control> tag is named {hardware.name!r}, expected 'left_rrbot': two robots in "
+        "one system need two hardware component names"
+    )
     assert [j.name for j in hardware.joints] == ["left_joint1", "left_joint2"], (
         f"<ros2_control> joints with prefix:=left_ are {[j.name for j in hardware.joints]}"
     )
     sensors = [s for s in hardware.sensors if s.name.endswith("tcp_fts_sensor")]
     assert sensors, "no tcp_fts_sensor with prefix:=left_"
+    assert sensors[0].name == "left_tcp_fts_sensor", (
+        f"with prefix:=left_ the sensor is named {sensors[0].name!r}, expected 'left_tcp_fts_sensor': otherwise two "
+        "robots both export tcp_fts_sensor/fx"
+    )
+    gpios = [g.name for g in hardware.gpios if g.name.endswith("flange_gpios")]
+    assert gpios == ["left_flange_gpios"], (
+        f"with prefix:=left_ the GPIO block is named {gpios}, expected ['left_flange_gpios']"
+    )
     assert sensors[0].parameters.get("frame_id") == "left_tool0", (
         f"with prefix:=left_ the FTS frame_id is {sensors[0].parameters.get('frame_id')!r}: the frame is 'left_tool0'"
     )

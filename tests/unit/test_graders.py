@@ -95,3 +95,47 @@ def test_task01_joint2_limits_in_degrees_fail_the_limit_check(tmp_path: Path) ->
     )
     rubric = grade(1, task_root=root)
     assert _failed(rubric) == {"joint2_limits"}, _report(rubric)
+
+
+@needs_solutions
+def test_task01_unprefixed_ros2_control_name_fails_only_the_prefix_check(tmp_path: Path) -> None:
+    """The original workshop's tag name: 'rrbot' whatever the prefix, so two robots collide."""
+    root = _mutated_task01(
+        tmp_path, "rrbot/rrbot_macro.ros2_control.xacro",
+        r'<ros2_control name="\$\{prefix\}\$\{name\}"', '<ros2_control name="${name}"',
+    )
+    rubric = grade(1, task_root=root)
+    assert _failed(rubric) == {"prefix"}, _report(rubric)
+
+
+@needs_solutions
+def test_task01_unprefixed_sensor_and_gpio_names_fail_only_the_prefix_check(tmp_path: Path) -> None:
+    """The original workshop's sensor and GPIO names: no prefix, so two robots export the same interfaces."""
+    root = _mutated_task01(
+        tmp_path, "rrbot/rrbot_macro.ros2_control.xacro",
+        r'<sensor name="\$\{prefix\}tcp_fts_sensor">(.*)<gpio name="\$\{prefix\}flange_gpios">',
+        r'<sensor name="tcp_fts_sensor">\1<gpio name="flange_gpios">',
+    )
+    rubric = grade(1, task_root=root)
+    assert _failed(rubric) == {"prefix"}, _report(rubric)
+
+
+@needs_solutions
+def test_task01_tool0_without_the_original_rotation_fails_only_the_orientation_check(tmp_path: Path) -> None:
+    """tool0 in the same place but not turned (rpy 0 0 0): the positions pass, the orientation does not."""
+    root = _mutated_task01(
+        tmp_path, "rrbot/rrbot_macro.xacro",
+        r'rpy="0 \$\{-pi\} \$\{-pi / 2\}"', 'rpy="0 0 0"',
+    )
+    rubric = grade(1, task_root=root)
+    assert _failed(rubric) == {"tool0_orientation"}, _report(rubric)
+
+
+@needs_solutions
+def test_task01_missing_flange_frame_fails_the_frame_checks(tmp_path: Path) -> None:
+    root = _mutated_task01(
+        tmp_path, "rrbot/rrbot_macro.xacro",
+        r'\s*<joint name="\$\{prefix\}tool0-flange_joint".*?<link name="\$\{prefix\}flange" />', "",
+    )
+    rubric = grade(1, task_root=root)
+    assert _failed(rubric) == {"links_and_joints", "tool0_orientation"}, _report(rubric)
