@@ -10,6 +10,13 @@ As with ros2_control's ``handle_exceptions`` (default true), a controller whose 
 returns ERROR is deactivated together with the controllers chained to it, its traceback is logged,
 its ``fallback_controllers`` are activated and the loop goes on. Hardware that fails in ``read`` or
 ``write`` takes the controllers that use it down the same way.
+
+This class keeps the registry of loaded controllers and their update order, and offers the public
+API; the steps live next to it: :mod:`~rrbot_workshop.controller_lifecycle` (load, configure,
+cleanup, shutdown), :mod:`~rrbot_workshop.controller_claims` (which interfaces a controller needs;
+claiming them on activation), :mod:`~rrbot_workshop.controller_chains` (update order and chain
+groups), :mod:`~rrbot_workshop.controller_loop` (rates and failures in a cycle),
+:mod:`~rrbot_workshop.introspection` and :mod:`~rrbot_workshop.controller_manager_services`.
 """
 
 from __future__ import annotations
@@ -19,8 +26,10 @@ import traceback
 from collections.abc import Callable, Iterable, Mapping
 from types import MappingProxyType
 
-from . import introspection, plugins
-from .clock import Clock, SimClock, rate_due
+from . import controller_lifecycle, controller_loop, introspection
+from .clock import Clock, SimClock
+from .controller_chains import chain_group, update_order
+from .controller_claims import deactivate_controller, required_interfaces
 from .controller_manager_services import register_services
 from .controller_spec import (
     ControllerSpec,
@@ -29,18 +38,9 @@ from .controller_spec import (
     HardwareInterfaces,
     SwitchResult,
 )
-from .controllers.base import ControllerInterface, InterfaceConfigurationType
-from .exceptions import (
-    ControllerError,
-    ControllerNotFound,
-    HardwareError,
-    InterfaceAlreadyClaimed,
-    InterfaceNotFound,
-    LifecycleError,
-    PluginNotFound,
-    SwitchError,
-)
-from .lifecycle import CallbackReturn, ReturnType, State
+from .controllers.base import ControllerInterface
+from .exceptions import ControllerError, ControllerNotFound, HardwareError, LifecycleError
+from .lifecycle import State
 from .params import ControllersConfig
 from .resource_manager import ResourceManager
 from .switch import switch_controllers as _switch
@@ -116,40 +116,15 @@ class ControllerManager:
         """
         return self._spec(name).controller
 
-    # ================================================================= interface resolution
-    def _resolve(self, spec: ControllerSpec, kind: str) -> list[str]:
-        ctrl = spec.controller
-        if spec.state not in (State.INACTIVE, State.ACTIVE):
-            return []
-        try:
-            cfg = ctrl.command_interface_configuration() if kind == "command" else ctrl.state_interface_configuration()
-        except Exception:  # noqa: BLE001
-            _log.error("%s_interface_configuration of '%s' raised:\n%s", kind, spec.name, traceback.format_exc())
-            return []
-        rm = self.resource_manager
-        if cfg.type is InterfaceConfigurationType.NONE:
-            return []
-        if cfg.type is InterfaceConfigurationType.ALL:
-            if kind == "command":
-                own = set(rm.get_controller_reference_interface_names(spec.name))
-                return [n for n in rm.available_command_interfaces() if n not in own]
-            own = set(rm.get_controller_exported_state_interface_names(spec.name))
-            return [n for n in rm.available_state_interfaces() if n not in own]
-        names = list(cfg.names)
-        if cfg.type is InterfaceConfigurationType.INDIVIDUAL_BEST_EFFORT:
-            exists = rm.command_interface_exists if kind == "command" else rm.state_interface_exists
-            names = [n for n in names if exists(n)]
-        return names
-
     def command_interface_names(self, spec: ControllerSpec) -> list[str]:
         """Command interfaces a configured controller asks for (resolved against the storage)."""
-        return self._resolve(spec, "command")
+        return required_interfaces(self.resource_manager, spec, "command")
 
     def state_interface_names(self, spec: ControllerSpec) -> list[str]:
         """State interfaces a configured controller asks for (resolved against the storage)."""
-        return self._resolve(spec, "state")
+        return required_interfaces(self.resource_manager, spec, "state")
 
-    # ================================================================= load / configure / cleanup / unload
+    # ================================================================= lifecycle (steps in controller_lifecycle)
     def load_controller(self, name: str, type: str | None = None) -> ControllerInterface:  # noqa: A002
         """Create controller ``name`` of plugin ``type`` (from the controllers YAML if None) and run ``on_init``.
 
@@ -158,35 +133,11 @@ class ControllerManager:
             ControllerNotFound: If no type is given and the YAML declares none for ``name``.
             ParameterError: If the parameters do not match the controller's declarations.
         """
-        if name in self._controllers:
-            raise ControllerError(f"controller '{name}' is already loaded; unload it first or use another name")
-        type_name = type or self.params.controller_types.get(name) or self.params.parameters_for(name).get("type")
-        if not type_name:
-            raise ControllerNotFound(
-                name, self.params.controller_types, what=f"declared with a 'type' in the controllers config ({self.params.source})"
-            )
-        try:
-            cls = plugins.resolve("controller", type_name)
-        except PluginNotFound as exc:
-            raise ControllerError(f"cannot load controller '{name}': {exc}") from exc
-        ctrl = cls()
-        parameters = self.params.parameters_for(name)
-        parameters.pop("type", None)
-        try:
-            result = ctrl.init(name, self.robot_description, self.update_rate, self.bus, parameters, clock=self.clock.now)
-        except Exception:
-            self.bus.remove_owner(name)
-            raise
-        if result is not CallbackReturn.SUCCESS:
-            self.bus.remove_owner(name)
-            raise ControllerError(f"controller '{name}' ({type_name}): on_init returned {result.value}")
-        fallback = parameters.get("fallback_controllers", [])
-        if not isinstance(fallback, list) or not all(isinstance(f, str) for f in fallback):
-            raise ControllerError(f"controller '{name}': 'fallback_controllers' must be a list of names, got {fallback!r}")
-        self._controllers[name] = ControllerSpec(name, type_name, ctrl, list(fallback))
+        spec = controller_lifecycle.create(self, name, type)
+        self._controllers[name] = spec
         self._order.append(name)
-        _log.info("loaded controller '%s' (%s)", name, type_name)
-        return ctrl
+        _log.info("loaded controller '%s' (%s)", name, spec.type)
+        return spec.controller
 
     def configure_controller(self, name: str) -> None:
         """Configure ``name`` (cleaning it up first if inactive); export a chainable controller's
@@ -198,34 +149,10 @@ class ControllerManager:
             ParameterError: If its parameters fail validation.
         """
         spec = self._spec(name)
-        ctrl = spec.controller
-        if spec.state is State.ACTIVE:
-            raise ControllerError(f"controller '{name}' is active and cannot be configured; deactivate it first")
         if spec.state is State.INACTIVE:
             self.cleanup_controller(name)
-        if spec.state is not State.UNCONFIGURED:
-            raise ControllerError(f"controller '{name}' is '{spec.state.label}' and cannot be configured")
-        new = ctrl.configure()
-        if new is not State.INACTIVE:
-            raise ControllerError(f"controller '{name}' failed to configure: on_configure did not succeed (it is '{new.label}')")
-        if ctrl.is_chainable():
-            try:
-                refs = ctrl.export_reference_interfaces()  # type: ignore[attr-defined]
-                exps = ctrl.export_state_interfaces()  # type: ignore[attr-defined]
-                if not refs and not exps:
-                    raise ControllerError(
-                        f"chainable controller '{name}' exports neither reference nor state interfaces"
-                    )
-                self.resource_manager.import_controller_reference_interfaces(name, refs)
-                self.resource_manager.import_controller_exported_state_interfaces(name, exps)
-            except Exception:
-                self.resource_manager.remove_controller_reference_interfaces(name)
-                self.resource_manager.remove_controller_exported_state_interfaces(name)
-                ctrl.cleanup()
-                raise
-        if ctrl.get_node().get_parameter("is_async", False):
-            _log.info("controller '%s' asks for is_async; it runs in the manager's loop here", name)
-        self._rebuild_order()
+        controller_lifecycle.configure(self.resource_manager, spec)
+        self._order = update_order(self.resource_manager, self._controllers)
 
     def cleanup_controller(self, name: str) -> None:
         """inactive -> unconfigured; its exported interfaces are removed.
@@ -234,13 +161,8 @@ class ControllerManager:
             ControllerNotFound: If it is not loaded.
             ControllerError: If it is not inactive.
         """
-        spec = self._spec(name)
-        if spec.state is not State.INACTIVE:
-            raise ControllerError(f"controller '{name}' is '{spec.state.label}'; only an inactive controller can be cleaned up")
-        self.resource_manager.remove_controller_reference_interfaces(name)
-        self.resource_manager.remove_controller_exported_state_interfaces(name)
-        spec.controller.cleanup()
-        self._rebuild_order()
+        controller_lifecycle.cleanup(self.resource_manager, self._spec(name))
+        self._order = update_order(self.resource_manager, self._controllers)
 
     def unload_controller(self, name: str) -> None:
         """Clean up (if inactive), shut down and forget controller ``name``.
@@ -254,12 +176,7 @@ class ControllerManager:
             raise ControllerError(f"controller '{name}' is active and cannot be unloaded; deactivate it first")
         if spec.state is State.INACTIVE:
             self.cleanup_controller(name)
-        if spec.state is not State.FINALIZED:
-            try:
-                spec.controller.shutdown()
-            except LifecycleError as exc:
-                _log.warning("shutting down '%s': %s", name, exc)
-        spec.controller.get_node().destroy()
+        controller_lifecycle.shutdown(spec)
         del self._controllers[name]
         self._order.remove(name)
 
@@ -271,58 +188,7 @@ class ControllerManager:
             ControllerError: If the transition is not possible from its state (or fails).
             SwitchError: If activation or deactivation is rejected.
         """
-        spec = self._spec(name)
-        target = state if isinstance(state, State) else State.from_label(state)
-        current = spec.state
-        if target is current:
-            return
-        if target is State.INACTIVE:
-            if current is State.UNCONFIGURED:
-                self.configure_controller(name)
-            elif current is State.ACTIVE:
-                self.switch_controllers(deactivate=[name], strictness="strict")
-            else:
-                raise ControllerError(f"controller '{name}' is '{current.label}' and cannot become inactive")
-        elif target is State.ACTIVE:
-            if current is not State.INACTIVE:
-                raise ControllerError(f"controller '{name}' is '{current.label}'; only an inactive controller can be activated")
-            self.switch_controllers(activate=[name], strictness="strict")
-        elif target is State.UNCONFIGURED:
-            if current is not State.INACTIVE:
-                raise ControllerError(f"controller '{name}' is '{current.label}'; only an inactive controller can be cleaned up")
-            self.cleanup_controller(name)
-        else:
-            raise ControllerError(
-                f"cannot set controller '{name}' to '{target.label}' (valid: 'unconfigured', 'inactive', 'active')"
-            )
-
-    # ================================================================= update order
-    def _rebuild_order(self) -> None:
-        """Topological order, preceding controllers first; ties keep load order."""
-        rm = self.resource_manager
-        names = list(self._controllers)
-        before: dict[str, set[str]] = {n: set() for n in names}  # n -> controllers that must run before n
-        for name in names:
-            spec = self._controllers[name]
-            for itf in self.command_interface_names(spec):
-                owner = rm.controller_of_interface(itf)
-                if owner in before and owner != name:
-                    before[owner].add(name)  # name claims owner's reference: name runs first
-            for itf in self.state_interface_names(spec):
-                owner = rm.controller_of_interface(itf)
-                if owner in before and owner != name:
-                    before[name].add(owner)  # name reads owner's exported state: owner runs first
-        order: list[str] = []
-        remaining = list(names)
-        while remaining:
-            ready = next((n for n in remaining if not (before[n] - set(order))), None)
-            if ready is None:
-                _log.error("controllers %s form a chaining loop; keeping their load order", remaining)
-                order += remaining
-                break
-            order.append(ready)
-            remaining.remove(ready)
-        self._order = order
+        controller_lifecycle.set_state(self, self._spec(name), state)
 
     # ================================================================= switching
     def switch_controllers(
@@ -357,47 +223,6 @@ class ControllerManager:
             raise ControllerError("activate and deactivate take lists of controller names, not a single string")
         return _switch(self, activate, deactivate, strictness)
 
-    def _activate_now(self, name: str) -> str | None:
-        """Claim interfaces and activate; returns why it failed, or None."""
-        spec = self._controllers[name]
-        ctrl = spec.controller
-        rm = self.resource_manager
-        commands, states = [], []
-        try:
-            for itf in self.command_interface_names(spec):
-                commands.append(rm.claim_command_interface(itf, holder=name))
-            for itf in self.state_interface_names(spec):
-                states.append(rm.claim_state_interface(itf))
-        except (InterfaceAlreadyClaimed, InterfaceNotFound) as exc:
-            for loan in commands:
-                loan.release()
-            return f"resource conflict while activating '{name}': {exc}"
-        ctrl.assign_interfaces(commands, states)
-        new = ctrl.activate()
-        if new is not State.ACTIVE:
-            ctrl.release_interfaces()
-            return f"controller '{name}' failed to activate: on_activate did not succeed (it is '{new.label}')"
-        if ctrl.is_chainable():
-            rm.make_controller_reference_interfaces_available(name, True)
-            rm.make_controller_exported_state_interfaces_available(name, True)
-        spec.last_update_time = None
-        return None
-
-    def _deactivate_now(self, name: str) -> None:
-        """Deactivate, release interfaces, leave chained mode, hide exports."""
-        spec = self._controllers[name]
-        ctrl = spec.controller
-        if spec.state is State.ACTIVE:
-            ctrl.deactivate()
-        if spec.state is State.ACTIVE:
-            _log.error("controller '%s' failed to deactivate (on_deactivate did not succeed); it stays active", name)
-            return
-        ctrl.release_interfaces()
-        if ctrl.is_chainable():
-            ctrl.set_chained_mode(False)  # type: ignore[attr-defined]
-            self.resource_manager.make_controller_reference_interfaces_available(name, False)
-            self.resource_manager.make_controller_exported_state_interfaces_available(name, False)
-
     # ================================================================= the loop
     def add_cycle_hook(self, fn: CycleHook) -> Callable[[], None]:
         """Call ``fn(time, period)`` after every cycle (recorders, viewers). Returns a remover."""
@@ -413,13 +238,13 @@ class ControllerManager:
         """Read all hardware; controllers using failed hardware are deactivated."""
         status = self.resource_manager.read(time, period)
         if not status.ok:
-            self._hardware_failed(status.failed_hardware_names, "read")
+            controller_loop.hardware_failed(self, status.failed_hardware_names, "read")
 
     def write(self, time: float, period: float) -> None:
         """Write all hardware; controllers using failed hardware are deactivated."""
         status = self.resource_manager.write(time, period)
         if not status.ok:
-            self._hardware_failed(status.failed_hardware_names, "write")
+            controller_loop.hardware_failed(self, status.failed_hardware_names, "write")
 
     def update_controllers(self, time: float, period: float) -> None:
         """Update each active controller that is due, in chain order.
@@ -428,31 +253,7 @@ class ControllerManager:
             time: Current time in [s].
             period: Manager period in [s].
         """
-        failed: list[str] = []
-        for name in self._order:
-            spec = self._controllers[name]
-            ctrl = spec.controller
-            if ctrl._state is not State.ACTIVE:
-                continue
-            rate = ctrl._update_rate or self.update_rate
-            last = spec.last_update_time
-            if rate < self.update_rate and not rate_due(last, time, rate, self.update_rate):
-                continue
-            ctrl_period = period if last is None or rate >= self.update_rate else time - last
-            spec.last_update_time = time
-            try:
-                result = ctrl.update(time, ctrl_period)
-            except Exception:
-                if not self.handle_exceptions:
-                    raise
-                _log.error("update of controller '%s' raised:\n%s", name, traceback.format_exc())
-                result = ReturnType.ERROR
-            if result is not ReturnType.OK:
-                if result is not ReturnType.ERROR:
-                    _log.error("update of controller '%s' returned %r", name, result)
-                failed.append(name)
-        if failed:
-            self._controllers_failed(failed)
+        controller_loop.update_controllers(self, time, period)
 
     def update(self, time: float, period: float) -> None:
         """One control cycle: deliver topics, read, update controllers, write, hooks.
@@ -471,57 +272,9 @@ class ControllerManager:
             except Exception:  # noqa: BLE001 - a plotting hook must not stop the robot
                 _log.error("cycle hook %r raised:\n%s", hook, traceback.format_exc())
 
-    # ----------------------------------------------------------------- failures
     def chain_group(self, names: Iterable[str]) -> list[str]:
         """``names`` and every active controller chained to them (either direction), in update order."""
-        rm = self.resource_manager
-        active = [n for n in self._order if self._controllers[n].state is State.ACTIVE]
-        links: dict[str, set[str]] = {n: set() for n in active}
-        for n in active:
-            spec = self._controllers[n]
-            for itf in [*self.command_interface_names(spec), *self.state_interface_names(spec)]:
-                owner = rm.controller_of_interface(itf)
-                if owner in links and owner != n:
-                    links[n].add(owner)
-                    links[owner].add(n)
-        group = set(names)
-        todo = [n for n in group if n in links]
-        while todo:
-            for other in links[todo.pop()]:
-                if other not in group:
-                    group.add(other)
-                    todo.append(other)
-        return [n for n in self._order if n in group]
-
-    def _controllers_failed(self, failed: list[str]) -> None:
-        group = self.chain_group(failed)
-        _log.error("controller(s) %s failed in update; deactivating %s", failed, group)
-        for name in group:
-            self._deactivate_now(name)
-        fallbacks = [fb for n in failed for fb in self._controllers[n].fallback_controllers]
-        fallbacks = [fb for i, fb in enumerate(fallbacks) if fb not in fallbacks[:i]]
-        if fallbacks:
-            try:
-                self.switch_controllers(activate=fallbacks, strictness="strict")
-                _log.warning("activated fallback controllers %s", fallbacks)
-            except (SwitchError, ControllerError) as exc:
-                _log.error("could not activate fallback controllers %s: %s", fallbacks, exc)
-
-    def _hardware_failed(self, hardware: list[str], where: str) -> None:
-        rm = self.resource_manager
-        users = []
-        for name in self._order:
-            ctrl = self._controllers[name].controller
-            if ctrl.get_lifecycle_state() is not State.ACTIVE:
-                continue
-            loans = [*ctrl.command_interfaces, *ctrl.state_interfaces]
-            if any(rm.hardware_of_interface(loan.name) in hardware for loan in loans):
-                users.append(name)
-        group = self.chain_group(users)
-        if group:
-            _log.error("hardware %s failed in %s; deactivating controllers %s", hardware, where, group)
-        for name in group:
-            self._deactivate_now(name)
+        return chain_group(self.resource_manager, self._controllers, self._order, names)
 
     # ================================================================= introspection
     def list_controllers(self) -> list[ControllerState]:
@@ -565,7 +318,7 @@ class ControllerManager:
     def shutdown(self) -> None:
         """Deactivate every active controller (in update order) and unload them all."""
         for name in [n for n in self._order if self._controllers[n].state is State.ACTIVE]:
-            self._deactivate_now(name)
+            deactivate_controller(self.resource_manager, self._controllers[name])
         for name in reversed(list(self._order)):
             try:
                 self.unload_controller(name)

@@ -19,6 +19,10 @@ The steps follow ``controller_manager.cpp`` (Jazzy):
 
 Every rejection before step 10 leaves all states as they were. The caller gets a :class:`SwitchError`
 listing every reason, naming controllers and interfaces.
+
+This module holds the request and its planning (steps 1-8); the chaining checks of steps 3-4 are in
+:mod:`~rrbot_workshop.switch_chaining`, running and rolling back (steps 9-11) in
+:mod:`~rrbot_workshop.switch_execution`.
 """
 
 from __future__ import annotations
@@ -28,9 +32,10 @@ from collections.abc import Iterable
 from typing import TYPE_CHECKING, Any
 
 from .controller_spec import SwitchResult
-from .controllers.base import InterfaceConfigurationType
 from .exceptions import ControllerError, SwitchError
 from .lifecycle import State
+from .switch_chaining import check_activation, check_deactivation, followers
+from .switch_execution import execute
 
 if TYPE_CHECKING:
     from .controller_manager import ControllerManager
@@ -70,8 +75,8 @@ def _dedupe(names: Iterable[str]) -> list[str]:
     return out
 
 
-class _Switch:
-    """One switch request being planned and executed."""
+class SwitchRequest:
+    """One switch request: what is asked, what planning dropped, and which followers change chained mode."""
 
     def __init__(self, cm: ControllerManager, activate: list[str], deactivate: list[str], strictness: str) -> None:
         self.cm = cm
@@ -82,115 +87,10 @@ class _Switch:
         self.skipped: list[str] = []
         self.to_chained: set[str] = set()
         self.from_chained: set[str] = set()
-        self.was_chained: dict[str, bool] = {}
 
     def state(self, name: str) -> State:
+        """Lifecycle state of loaded controller ``name``."""
         return self.cm.controllers[name].state
-
-    # ----------------------------------------------------------------- relations
-    def followers(self, name: str) -> list[tuple[str, str, str]]:
-        """(follower, interface, "reference"|"state") for each exported interface ``name`` uses."""
-        spec = self.cm.controllers[name]
-        out = []
-        for itf in self.cm.command_interface_names(spec):
-            owner = self.rm.controller_of_interface(itf)
-            if owner is not None and owner != name and itf in self.rm.get_controller_reference_interface_names(owner):
-                out.append((owner, itf, "reference"))
-        for itf in self.cm.state_interface_names(spec):
-            owner = self.rm.controller_of_interface(itf)
-            if owner is not None and owner != name and itf in self.rm.get_controller_exported_state_interface_names(owner):
-                out.append((owner, itf, "state"))
-        return out
-
-    def preceding(self, name: str) -> list[tuple[str, str]]:
-        """(controller, interface) for each configured controller that uses an interface ``name`` exports."""
-        refs = set(self.rm.get_controller_reference_interface_names(name))
-        exps = set(self.rm.get_controller_exported_state_interface_names(name))
-        out = []
-        for other, spec in self.cm.controllers.items():
-            if other == name or spec.state not in (State.INACTIVE, State.ACTIVE):
-                continue
-            for itf in self.cm.command_interface_names(spec):
-                if itf in refs:
-                    out.append((other, itf))
-            for itf in self.cm.state_interface_names(spec):
-                if itf in exps:
-                    out.append((other, itf))
-        return out
-
-    def dependency_order(self, names: Iterable[str]) -> list[str]:
-        """``names`` ordered so that a controller comes after every controller whose interfaces it uses
-        (references or exported states); ties keep the update order."""
-        order = self.cm.update_order()
-        todo = sorted(set(names), key=order.index)
-        deps = {n: {f for f, _i, _k in self.followers(n) if f in todo and f != n} for n in todo}
-        out: list[str] = []
-        while todo:
-            ready = next((n for n in todo if deps[n] <= set(out)), todo[0])
-            out.append(ready)
-            todo.remove(ready)
-        return out
-
-    # ----------------------------------------------------------------- step 3
-    def check_activation(self, name: str) -> tuple[list[str], set[str]]:
-        """Reasons ``name`` cannot be activated, and the followers it would put in chained mode."""
-        state = self.state(name)
-        if state is State.UNCONFIGURED:
-            return [f"controller '{name}' is unconfigured; configure it before activating it"], set()
-        if state is State.ACTIVE and name not in self.deactivate:
-            return [f"controller '{name}' is already active"], set()
-        if state not in (State.INACTIVE, State.ACTIVE):
-            return [f"controller '{name}' is '{state.label}' and cannot be activated (it must be inactive)"], set()
-        reasons: list[str] = []
-        chained: set[str] = set()
-        self._check_followers(name, reasons, chained, visited={name})
-        spec = self.cm.controllers[name]
-        for fb in spec.fallback_controllers:
-            if fb not in self.cm.controllers:
-                reasons.append(f"fallback controller '{fb}' of '{name}' is not loaded")
-            elif self.state(fb) not in (State.INACTIVE, State.ACTIVE):
-                reasons.append(f"fallback controller '{fb}' of '{name}' is '{self.state(fb).label}'; it must be configured")
-        return reasons, chained
-
-    def _check_followers(self, name: str, reasons: list[str], chained: set[str], visited: set[str]) -> None:
-        uses_all = self.cm.controllers[name].controller.command_interface_configuration().type is InterfaceConfigurationType.ALL
-        for follower, itf, kind in self.followers(name):
-            fstate = self.state(follower)
-            staying = fstate is State.ACTIVE and (follower not in self.deactivate or follower in self.activate)
-            coming = fstate is State.INACTIVE and follower in self.activate
-            leaving = fstate is State.ACTIVE and follower in self.deactivate and follower not in self.activate
-            if not (staying or coming or (leaving and uses_all)):
-                what = "being deactivated" if leaving else f"'{fstate.label}' and not activated in this switch"
-                reasons.append(
-                    f"controller '{name}' uses {kind} interface '{itf}' of controller '{follower}', which is {what}; "
-                    f"activate '{follower}' first or in the same switch"
-                )
-                continue
-            if kind == "reference" and not self.cm.controllers[follower].controller.is_in_chained_mode():
-                chained.add(follower)
-            if coming and follower not in visited:
-                visited.add(follower)
-                self._check_followers(follower, reasons, chained, visited)
-
-    # ----------------------------------------------------------------- step 4
-    def check_deactivation(self, name: str) -> list[str]:
-        state = self.state(name)
-        if state is not State.ACTIVE:
-            return [f"controller '{name}' is not active (it is '{state.label}'); it cannot be deactivated"]
-        reasons = []
-        for other, itf in self.preceding(name):
-            ostate = self.state(other)
-            if ostate is State.INACTIVE and other in self.activate:
-                reasons.append(
-                    f"cannot deactivate '{name}': preceding controller '{other}' is being activated and uses its "
-                    f"interface '{itf}'"
-                )
-            elif ostate is State.ACTIVE and other not in self.deactivate:
-                reasons.append(
-                    f"cannot deactivate '{name}': preceding controller '{other}' stays active and uses its "
-                    f"interface '{itf}'; deactivate '{other}' too (or first)"
-                )
-        return reasons
 
     # ----------------------------------------------------------------- planning
     def plan(self) -> bool:
@@ -215,18 +115,18 @@ class _Switch:
             self.to_chained, self.from_chained = set(), set()
             for d in self.deactivate:  # step 2
                 if self.state(d) is State.ACTIVE:
-                    for follower, _itf, kind in self.followers(d):
+                    for follower, _itf, kind in followers(self.cm, d):
                         if kind == "reference" and loaded[follower].controller.is_in_chained_mode():
                             self.from_chained.add(follower)
             problems: dict[str, list[str]] = {}
             for a in self.activate:
-                reasons, chained = self.check_activation(a)
+                reasons, chained = check_activation(self.cm, a, self.activate, self.deactivate)
                 if reasons:
                     problems[a] = reasons
                 else:
                     self.to_chained |= chained
             for d in self.deactivate:
-                reasons = self.check_deactivation(d)
+                reasons = check_deactivation(self.cm, d, self.activate, self.deactivate)
                 if reasons:
                     problems.setdefault(d, []).extend(reasons)
             if not problems:
@@ -310,6 +210,7 @@ class _Switch:
         return ""
 
     def hardware_lists(self) -> tuple[list[str], list[str]]:
+        """Hardware command interfaces the activations claim and those the deactivations release."""
         start = [
             itf
             for a in self.activate
@@ -324,64 +225,6 @@ class _Switch:
         ]
         return start, stop
 
-    # ----------------------------------------------------------------- execution (steps 9-11)
-    def execute(self) -> SwitchResult:
-        start, stop = self.hardware_lists()
-        if not self.rm.perform_command_mode_switch(start, stop):
-            raise SwitchError([f"the hardware failed to perform the command mode switch: {self.rm.last_switch_error}"])
-        result = SwitchResult(skipped=list(self.skipped))
-        self.was_chained = {
-            n: self.cm.controllers[n].controller.is_in_chained_mode()
-            for n in {*self.deactivate, *self.to_chained, *self.from_chained}
-            if self.cm.controllers[n].controller.is_chainable()
-        }
-        for name in reversed(self.dependency_order(self.deactivate)):  # users before the controllers they use
-            self.cm._deactivate_now(name)
-            result.deactivated.append(name)
-        for name in sorted(self.to_chained):
-            if not self.cm.controllers[name].controller.set_chained_mode(True):  # type: ignore[attr-defined]
-                _log.error("controller '%s' refused to enter chained mode", name)
-        for name in sorted(self.from_chained):
-            if self.state(name) is not State.ACTIVE:
-                self.cm.controllers[name].controller.set_chained_mode(False)  # type: ignore[attr-defined]
-        failures: list[str] = []
-        for name in self.dependency_order(self.activate):  # exporters before the controllers that use them
-            reason = self.cm._activate_now(name)
-            if reason:
-                failures.append(reason)
-                if self.strict:
-                    break
-            else:
-                result.activated.append(name)
-        if failures and self.strict:
-            self.rollback(result)
-            raise SwitchError(failures)
-        still_active = [d for d in self.deactivate if d not in self.activate and self.state(d) is State.ACTIVE]
-        failures += [f"controller '{d}' is still active after deactivation" for d in still_active]
-        if failures:
-            raise SwitchError(failures, partial=bool(result.activated or result.deactivated))
-        return result
-
-    def rollback(self, result: SwitchResult) -> None:
-        """Strict mode: undo a switch whose activation failed while it ran.
-
-        Jazzy only deactivates the controllers this switch activated; here the controllers it
-        deactivated are also brought back, so a failed strict switch leaves the system as it was.
-        """
-        for name in reversed(self.dependency_order(result.activated)):
-            self.cm._deactivate_now(name)
-        for name, chained in self.was_chained.items():
-            ctrl = self.cm.controllers[name].controller
-            if ctrl.get_lifecycle_state() is not State.ACTIVE and ctrl.is_in_chained_mode() != chained:
-                ctrl.set_chained_mode(chained)  # type: ignore[attr-defined]
-        for name in self.dependency_order(result.deactivated):
-            if self.state(name) is State.INACTIVE:
-                reason = self.cm._activate_now(name)
-                if reason:
-                    _log.error("rollback could not re-activate '%s': %s", name, reason)
-        start, stop = self.hardware_lists()
-        self.rm.perform_command_mode_switch(stop, start)
-
 
 def switch_controllers(
     cm: ControllerManager, activate: Iterable[str], deactivate: Iterable[str], strictness: str | int
@@ -393,11 +236,10 @@ def switch_controllers(
             deactivation did not happen; ``reasons`` lists every problem.
         ControllerError: If ``strictness`` is unknown.
     """
-    switch = _Switch(cm, list(activate), list(deactivate), normalize_strictness(strictness))
-    if not switch.plan():
-        for line in switch.skipped:
-            _log.warning("switch_controllers (best effort) skipped: %s", line)
-        return SwitchResult(skipped=switch.skipped)
+    switch = SwitchRequest(cm, list(activate), list(deactivate), normalize_strictness(strictness))
+    planned = switch.plan()
     for line in switch.skipped:
         _log.warning("switch_controllers (best effort) skipped: %s", line)
-    return switch.execute()
+    if not planned:
+        return SwitchResult(skipped=switch.skipped)
+    return execute(switch)

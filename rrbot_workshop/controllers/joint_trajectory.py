@@ -11,26 +11,42 @@ to the command interfaces. As in ros2_controllers Jazzy:
   tolerances against is sampled at ``time``;
 * with the single command interface ``velocity`` or ``effort`` a PID per joint turns the position
   and velocity errors into the command.
+
+This module holds the lifecycle and the control loop; the parts live next to it: :mod:`.trajectory`
+(sampling), :mod:`.tolerances` (errors and tolerances), :mod:`.joint_trajectory_parameters` (parameters
+and input checks), :mod:`.jtc_interfaces` (the loaned interfaces), :mod:`.jtc_messages` (the messages it
+reshapes and builds) and :mod:`.jtc_action_server` (FollowJointTrajectory goals).
 """
 
 from __future__ import annotations
 
 import copy
-import math
 import xml.etree.ElementTree as ET
 from typing import Any
 
 from ..exceptions import ParameterError
-from ..handles import LoanedCommandInterface, LoanedStateInterface
 from ..lifecycle import CallbackReturn, ReturnType, State
-from ..msgs import Header, JointTrajectory, JointTrajectoryControllerState, JointTrajectoryPoint
+from ..msgs import JointTrajectory, JointTrajectoryControllerState, JointTrajectoryPoint
 from .base import ControllerInterface, InterfaceConfiguration, InterfaceConfigurationType
 from .follow_joint_trajectory import FollowJointTrajectoryResult as Result
 from .follow_joint_trajectory import GoalHandle, GoalStatus
 from .joint_trajectory_parameters import JTC_PARAMETERS, check_interface_combinations, validate_trajectory_msg
 from .jtc_action_server import FollowJointTrajectoryServer
-from .tolerances import SegmentTolerances, check_state_tolerance_per_joint, get_segment_tolerances
-from .trajectory import InterpolationMethod, Trajectory, interpolate_between_points, shortest_angular_distance
+from .jtc_interfaces import JointInterfaces
+from .jtc_messages import (
+    controller_state_message,
+    fill_partial_goal,
+    hold_position_trajectory,
+    last_waypoint_trajectory,
+    sort_to_joint_order,
+)
+from .tolerances import (
+    SegmentTolerances,
+    check_state_tolerance_per_joint,
+    compute_state_error,
+    get_segment_tolerances,
+)
+from .trajectory import InterpolationMethod, Trajectory, interpolate_between_points
 
 __all__ = ["JointTrajectoryController", "interpolate_between_points"]
 
@@ -62,8 +78,7 @@ class JointTrajectoryController(ControllerInterface, FollowJointTrajectoryServer
         self._subscriber_active = False
         self._sub: Any = None
         self._pub: Any = None
-        self._cmd_itf: dict[str, list[LoanedCommandInterface]] = {}
-        self._state_itf: dict[str, list[LoanedStateInterface]] = {}
+        self._io: JointInterfaces | None = None
         self._pids: list[Any] = []
         self._ff: list[float] = []
         self._active_goal: GoalHandle | None = None
@@ -177,11 +192,9 @@ class JointTrajectoryController(ControllerInterface, FollowJointTrajectoryServer
     def on_activate(self, previous_state: State) -> CallbackReturn:
         """Sort the loaned interfaces, reset the PIDs and start holding the current position."""
         p = self._p
-        by_name_c = {c.name: c for c in self.command_interfaces}
-        by_name_s = {s.name: s for s in self.state_interfaces}
         try:
-            self._cmd_itf = {k: [by_name_c[f"{j}/{k}"] for j in self._command_joints(p)] for k in p.command_interfaces}
-            self._state_itf = {k: [by_name_s[f"{j}/{k}"] for j in p.joints] for k in p.state_interfaces}
+            io = self._io = JointInterfaces(p.joints, self._command_joints(p), p.command_interfaces, p.state_interfaces,
+                                            self.command_interfaces, self.state_interfaces, self._map_cmd_to_joints)
         except KeyError as exc:
             self.logger.error("'%s': interface %s was not assigned", self.get_name(), exc)
             return CallbackReturn.ERROR
@@ -190,14 +203,14 @@ class JointTrajectoryController(ControllerInterface, FollowJointTrajectoryServer
         self._trajectory = Trajectory()
         self._pending = None
         self._subscriber_active = True
-        state = self._read_state_from_command_interfaces()
+        state = io.state_from_commands()
         if p.set_last_command_interface_value_as_state_on_activation and len(self._map_cmd_to_joints) == self._dof \
                 and state is not None:
             self.state_current = state
             self._last_cmd_state = copy.deepcopy(state)
         else:
-            self.state_current = self._read_state()
-            self._last_cmd_state = self._read_state()
+            self.state_current = io.read_state()
+            self._last_cmd_state = io.read_state()
         self._last_cmd_time = 0.0
         self._pending = self._hold_position()
         goal_time = self._default_tol.goal_time_tolerance
@@ -213,78 +226,25 @@ class JointTrajectoryController(ControllerInterface, FollowJointTrajectoryServer
             self._active_goal._finish(GoalStatus.ABORTED, Result.INVALID_GOAL,
                                       "Current goal cancelled during deactivate transition.")
             self._active_goal = None
-        for kind in ("velocity", "acceleration", "effort"):
-            for loan in self._cmd_itf.get(kind, []):
-                loan.set_value(0.0)
-        self._cmd_itf, self._state_itf = {}, {}
+        if self._io is not None:
+            self._io.stop_motion()
+        self._io = None
         self._subscriber_active = False
         self._trajectory = None
         self._pending = None
         return CallbackReturn.SUCCESS
 
-    # ----------------------------------------------------------------- state helpers
-    def _read_state(self) -> JointTrajectoryPoint:
-        point = JointTrajectoryPoint(positions=[h.get_value() for h in self._state_itf["position"]])
-        if self._has_state["velocity"]:
-            point.velocities = [h.get_value() for h in self._state_itf["velocity"]]
-            if self._has_state["acceleration"]:
-                point.accelerations = [h.get_value() for h in self._state_itf["acceleration"]]
-        if self._has_cmd["effort"]:
-            point.effort = self._command_values("effort", math.nan)
-        return point
-
-    def _command_values(self, kind: str, fill: float) -> list[float]:
-        values = [fill] * self._dof
-        for i, loan in enumerate(self._cmd_itf[kind]):
-            values[self._map_cmd_to_joints[i]] = loan.get_value()
-        return values
-
-    def _read_state_from_command_interfaces(self) -> JointTrajectoryPoint | None:
-        """Finite commands as a state (controller restart), or None if a needed one is NaN."""
-        def finite(kind: str) -> list[float] | None:
-            if not self._has_cmd[kind]:
-                return None
-            vals = self._command_values(kind, math.nan)
-            return vals if all(math.isfinite(v) for v in vals) else None
-
-        point = JointTrajectoryPoint()
-        pos = finite("position")
-        if pos is None:
-            return None
-        point.positions = pos
-        for kind, attr in (("velocity", "velocities"), ("acceleration", "accelerations")):
-            if self._has_state[kind]:
-                vals = finite(kind)
-                if vals is None:
-                    return None
-                setattr(point, attr, vals)
-        if self._has_cmd["effort"]:
-            vals = finite("effort")
-            if vals is None:
-                return None
-            point.effort = vals
-        return point
-
+    # ----------------------------------------------------------------- holding
     def _hold_position(self) -> JointTrajectory:
         """A one-point trajectory at the current position, starting now; tolerances are not checked."""
         self._is_holding = True
-        n = self._dof
-        point = JointTrajectoryPoint(positions=list(self.state_current.positions), time_from_start=0.0)
-        if self._has_cmd["velocity"] or self._has_cmd["acceleration"]:
-            point.velocities = [0.0] * n
-        if self._has_cmd["acceleration"]:
-            point.accelerations = [0.0] * n
-        if self._has_cmd["effort"]:
-            point.effort = [0.0] * n
-        return JointTrajectory(Header(stamp=0.0), list(self._p.joints), [point])
+        return hold_position_trajectory(self._p.joints, self.state_current.positions, self._has_cmd)
 
     def _success_point(self) -> JointTrajectory:
         """Hold the last waypoint of the finished trajectory (whatever its velocity)."""
         self._is_holding = True
         assert self._trajectory is not None and self._trajectory.trajectory_msg is not None
-        last = copy.deepcopy(self._trajectory.trajectory_msg.points[-1])
-        last.time_from_start = 0.0
-        return JointTrajectory(Header(stamp=0.0), list(self._p.joints), [last])
+        return last_waypoint_trajectory(self._trajectory.trajectory_msg, self._p.joints)
 
     # ----------------------------------------------------------------- incoming trajectories
     def _reject(self, reason: str) -> None:
@@ -300,69 +260,18 @@ class JointTrajectoryController(ControllerInterface, FollowJointTrajectoryServer
             self._pending = copy.deepcopy(msg)
             self._is_holding = False
 
-    def _fill_partial_goal(self, msg: JointTrajectory) -> None:
-        joints = list(self._p.joints)
-        if len(msg.joint_names) == len(joints):
-            return
-        # ros2_controllers Jazzy pads with `has_value()` of the position command (i.e. 1.0) instead of
-        # its value; here the missing joints keep their last position command (or their state).
-        cmd_pos = self._command_values("position", math.nan) if self._has_cmd["position"] else [math.nan] * len(joints)
-        for idx, joint in enumerate(joints):
-            if joint in msg.joint_names:
-                continue
-            msg.joint_names.append(joint)
-            hold = cmd_pos[idx] if math.isfinite(cmd_pos[idx]) else self._state_itf["position"][idx].get_value()
-            for point in msg.points:
-                if point.positions:
-                    point.positions.append(hold)
-                for attr in ("velocities", "accelerations", "effort"):
-                    if getattr(point, attr):
-                        getattr(point, attr).append(0.0)
-
-    def _sort_to_local_joint_order(self, msg: JointTrajectory) -> None:
-        order = [msg.joint_names.index(j) for j in self._p.joints]
-        for point in msg.points:
-            for attr in ("positions", "velocities", "accelerations", "effort"):
-                values = getattr(point, attr)
-                if len(values) == len(order):
-                    setattr(point, attr, [values[k] for k in order])
-        msg.joint_names = list(self._p.joints)
-
     # ----------------------------------------------------------------- control loop
-    def _compute_error(self, current: JointTrajectoryPoint, desired: JointTrajectoryPoint) -> JointTrajectoryPoint:
-        n = self._dof
-        err = JointTrajectoryPoint(positions=[0.0] * n)
-        for i in range(n):
-            if self._wraparound[i]:
-                err.positions[i] = shortest_angular_distance(current.positions[i], desired.positions[i])
-            else:
-                err.positions[i] = desired.positions[i] - current.positions[i]
-        if self._has_state["velocity"]:
-            err.velocities = [0.0] * n
-            # As upstream, the velocity error is only computed with a velocity or effort command, so
-            # `stopped_velocity_tolerance` is not checked when the JTC commands positions.
-            if self._has_cmd["velocity"] or self._has_cmd["effort"]:
-                err.velocities = [desired.velocities[i] - current.velocities[i] for i in range(n)]
-        if self._has_state["acceleration"]:
-            err.accelerations = [0.0] * n
-            if self._has_cmd["acceleration"]:
-                err.accelerations = [desired.accelerations[i] - current.accelerations[i] for i in range(n)]
-        return err
-
-    def _write(self, kind: str, values: list[float]) -> None:
-        if len(values) < self._dof:
-            return  # e.g. interpolation 'none' and a waypoint without that field
-        for i, loan in enumerate(self._cmd_itf[kind]):
-            loan.set_value(values[self._map_cmd_to_joints[i]])
-
     def update(self, time: float, period: float) -> ReturnType:  # noqa: C901 - mirrors upstream's single loop
         """Sample the trajectory, check tolerances, write commands, publish the state."""
+        io = self._io
+        assert io is not None, "update() runs only while active"
         if self._pending is not None and self._trajectory is not None:
             msg, self._pending = self._pending, None
-            self._fill_partial_goal(msg)
-            self._sort_to_local_joint_order(msg)
+            if len(msg.joint_names) != self._dof:
+                fill_partial_goal(msg, self._p.joints, io.positions_to_hold())
+            sort_to_joint_order(msg, self._p.joints)
             self._trajectory.update(msg)
-        self.state_current = self._read_state()
+        self.state_current = io.read_state()
         traj = self._trajectory
         if traj is not None and traj.has_trajectory_msg():
             first_sample = False
@@ -391,7 +300,8 @@ class JointTrajectoryController(ControllerInterface, FollowJointTrajectoryServer
                         and time_difference > self._cmd_timeout:
                     self.logger.warning("'%s': aborted due to command timeout", self.get_name())
                     self._pending = self._hold_position()
-                self.state_error = err = self._compute_error(self.state_current, self.state_desired)
+                self.state_error = err = compute_state_error(self.state_current, self.state_desired, self._wraparound,
+                                                             self._has_state, self._has_cmd)
                 violated, outside_goal, within_goal_time = False, False, True
                 for i in range(self._dof):
                     if (before_last_point or first_sample) and not self._is_holding and \
@@ -403,12 +313,12 @@ class JointTrajectoryController(ControllerInterface, FollowJointTrajectoryServer
                         if tol.goal_time_tolerance != 0.0 and time_difference > tol.goal_time_tolerance:
                             within_goal_time = False
                 if not violated and within_goal_time:
-                    self._write_commands(time, period)
+                    self._write_commands(io, time, period)
                 self._handle_outcome(time, violated, before_last_point, outside_goal, within_goal_time, time_difference)
-        self._publish_state(time)
+        self._publish_state(io, time)
         return ReturnType.OK
 
-    def _write_commands(self, time: float, period: float) -> None:
+    def _write_commands(self, io: JointInterfaces, time: float, period: float) -> None:
         nxt = self.command_next
         pid_out: list[float] = []
         if self._use_pid:
@@ -420,32 +330,22 @@ class JointTrajectoryController(ControllerInterface, FollowJointTrajectoryServer
                 pid_out[idx] = ff_vel * self._ff[k] + ff_effort + self._pids[k].compute_command(
                     self.state_error.positions[idx], vel_err[idx], period)
         if self._has_cmd["position"]:
-            self._write("position", nxt.positions)
+            io.write("position", nxt.positions)
         if self._has_cmd["velocity"]:
-            self._write("velocity", pid_out if self._use_pid else nxt.velocities)
+            io.write("velocity", pid_out if self._use_pid else nxt.velocities)
         if self._has_cmd["acceleration"]:
-            self._write("acceleration", nxt.accelerations)
+            io.write("acceleration", nxt.accelerations)
         if self._has_cmd["effort"]:
             # with [position, effort] upstream writes the effort sampled at `time`, not one period ahead
-            self._write("effort", pid_out if self._use_pid else self.state_desired.effort)
+            io.write("effort", pid_out if self._use_pid else self.state_desired.effort)
         self._last_cmd_state = copy.deepcopy(nxt)
         self._last_cmd_time = time
 
-    def _publish_state(self, time: float) -> None:
-        if self._pub is None or not self._cmd_itf:
+    def _publish_state(self, io: JointInterfaces, time: float) -> None:
+        if self._pub is None:
             return
-        msg = JointTrajectoryControllerState(header=Header(stamp=time), joint_names=list(self._p.joints))
-        d, c, e = self.state_desired, self.state_current, self.state_error
-        msg.reference = JointTrajectoryPoint(list(d.positions), list(d.velocities), list(d.accelerations))
-        msg.feedback = JointTrajectoryPoint(list(c.positions), list(c.velocities), list(c.accelerations))
-        msg.error = JointTrajectoryPoint(list(e.positions), list(e.velocities), list(e.accelerations))
-        output = JointTrajectoryPoint()
-        for kind, attr in zip(_KINDS, ("positions", "velocities", "accelerations", "effort"), strict=True):
-            if self._has_cmd[kind]:
-                setattr(output, attr, self._command_values(kind, math.nan))
-        msg.output = output
-        msg.desired, msg.actual = msg.reference, msg.feedback
-        self._pub.publish(msg)
+        self._pub.publish(controller_state_message(time, self._p.joints, self.state_desired, self.state_current,
+                                                   self.state_error, io.command_point()))
 
     # ----------------------------------------------------------------- introspection
     @property

@@ -4,18 +4,20 @@ Two sets of per-joint tolerances decide the fate of a trajectory: the *path* (``
 tolerances are checked while it runs, the *goal* tolerances once its last waypoint is due, and
 ``goal_time_tolerance`` says how long past that the goal may still be reached. A tolerance of 0
 means "not checked". Defaults come from the ``constraints`` parameters; a FollowJointTrajectory
-goal can override them per joint, where 0 keeps the default and -1 erases it.
+goal can override them per joint, where 0 keeps the default and -1 erases it. The errors they are
+checked against come from :func:`compute_state_error`.
 """
 
 from __future__ import annotations
 
 import logging
 import math
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
 from ..msgs import JointTolerance, JointTrajectoryPoint
+from .trajectory import shortest_angular_distance
 
 __all__ = [
     "StateTolerances",
@@ -24,6 +26,7 @@ __all__ = [
     "get_segment_tolerances",
     "get_segment_tolerances_from_goal",
     "resolve_tolerance_source",
+    "compute_state_error",
     "check_state_tolerance_per_joint",
 ]
 
@@ -134,6 +137,46 @@ def get_segment_tolerances_from_goal(
         _log.error("goal tolerances ignored, using the defaults: %s", exc)
         return default
     return out
+
+
+def compute_state_error(
+    current: JointTrajectoryPoint,
+    desired: JointTrajectoryPoint,
+    wraparound: Sequence[bool],
+    has_state: Mapping[str, bool],
+    has_command: Mapping[str, bool],
+) -> JointTrajectoryPoint:
+    """``desired - current`` per joint, the fields the tolerances of a JTC are checked against.
+
+    Continuous joints (``wraparound``) take the shortest angular distance. Velocity and acceleration
+    errors exist when the state interfaces have those fields, and are 0 unless the controller commands
+    velocity or effort (velocity error), or acceleration (acceleration error).
+
+    Args:
+        current: The measured state.
+        desired: The sampled reference.
+        wraparound: Per joint, True for continuous joints.
+        has_state: State interface kind -> whether the controller reads it.
+        has_command: Command interface kind -> whether the controller commands it.
+    """
+    n = len(wraparound)
+    err = JointTrajectoryPoint(positions=[0.0] * n)
+    for i in range(n):
+        if wraparound[i]:
+            err.positions[i] = shortest_angular_distance(current.positions[i], desired.positions[i])
+        else:
+            err.positions[i] = desired.positions[i] - current.positions[i]
+    if has_state["velocity"]:
+        err.velocities = [0.0] * n
+        # As upstream, the velocity error is only computed with a velocity or effort command, so
+        # `stopped_velocity_tolerance` is not checked when the JTC commands positions.
+        if has_command["velocity"] or has_command["effort"]:
+            err.velocities = [desired.velocities[i] - current.velocities[i] for i in range(n)]
+    if has_state["acceleration"]:
+        err.accelerations = [0.0] * n
+        if has_command["acceleration"]:
+            err.accelerations = [desired.accelerations[i] - current.accelerations[i] for i in range(n)]
+    return err
 
 
 def check_state_tolerance_per_joint(

@@ -36,18 +36,18 @@ other GPIO states, inputs with nothing wired to them, read their ``initial_value
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Mapping
-from typing import Any
+from collections.abc import Mapping
 
 import mujoco
-import numpy as np
 
 from ..description.info import HardwareInfo
 from ..exceptions import DescriptionError
 from ..lifecycle import CallbackReturn, ReturnType, State
 from .base import SystemInterface
-from .mujoco_config import FORCE_TORQUE_INTERFACES, simulation_request
-from .mujoco_model import COMMAND_MODES, MujocoModel, build_model
+from .mujoco_config import simulation_request
+from .mujoco_io import CommandWrite, GpioMirror, StateRead, plan_command_writes, plan_gpio_mirrors, plan_state_reads
+from .mujoco_model import MujocoModel, build_model
+from .mujoco_modes import command_modes_after_switch
 
 __all__ = ["MujocoSystem"]
 
@@ -63,9 +63,9 @@ class MujocoSystem(SystemInterface):
         self._pending_time: float = 0.0
         self._powered: bool = False
         self._timestep: float = 0.001
-        self._read_plan: list[tuple[Callable[[Any], None], np.ndarray, int, float]] = []
-        self._write_plan: list[tuple[Callable[[], Any], int]] = []
-        self._gpio_mirrors: list[tuple[Callable[[], Any], Callable[[Any], None]]] = []
+        self._read_plan: list[StateRead] = []
+        self._write_plan: list[CommandWrite] = []
+        self._gpio_mirrors: list[GpioMirror] = []
         #: Why the last ``prepare_command_mode_switch`` returned ERROR, or ``""``.
         self.mode_switch_rejection: str = ""
 
@@ -150,7 +150,7 @@ class MujocoSystem(SystemInterface):
         """
         self.mode_switch_rejection = ""
         try:
-            self._new_modes(start_interfaces, stop_interfaces)
+            command_modes_after_switch(self.info, self._modes, start_interfaces, stop_interfaces)
         except ValueError as exc:
             self.mode_switch_rejection = str(exc)
             self.logger.error("MujocoSystem '%s' rejects the mode switch: %s", self.get_name(), exc)
@@ -160,7 +160,7 @@ class MujocoSystem(SystemInterface):
     def perform_command_mode_switch(self, start_interfaces: list[str], stop_interfaces: list[str]) -> ReturnType:
         """Switch actuators: stopped joints go passive, started joints hold their current state."""
         try:
-            modes = self._new_modes(start_interfaces, stop_interfaces)
+            modes = command_modes_after_switch(self.info, self._modes, start_interfaces, stop_interfaces)
         except ValueError as exc:
             self.logger.error("MujocoSystem '%s' cannot perform the mode switch: %s", self.get_name(), exc)
             return ReturnType.ERROR
@@ -173,39 +173,6 @@ class MujocoSystem(SystemInterface):
                 self._enable(joint, mode)
         self._plan_write()
         return ReturnType.OK
-
-    def _new_modes(self, start: list[str], stop: list[str]) -> dict[str, str | None]:
-        declared = {itf.name for joint in self.info.joints for itf in joint.command_interfaces}
-        declared_full = {f"{joint.name}/{itf.name}" for joint in self.info.joints for itf in joint.command_interfaces}
-        gpio_full = {f"{gpio.name}/{itf.name}" for gpio in self.info.gpios for itf in gpio.command_interfaces}
-        modes = dict(self._modes)
-        for key in stop:
-            if key in declared_full:
-                joint, _, interface = key.rpartition("/")
-                if modes.get(joint) == interface:
-                    modes[joint] = None
-        started: dict[str, list[str]] = {}
-        for key in start:
-            if key in gpio_full:
-                continue
-            if key not in declared_full:
-                valid = sorted(declared_full | gpio_full)
-                raise ValueError(f"unknown command interface '{key}' (valid: {', '.join(valid)})")
-            joint, _, interface = key.rpartition("/")
-            started.setdefault(joint, []).append(interface)
-        for joint, interfaces in started.items():
-            if len(interfaces) > 1:
-                raise ValueError(
-                    f"joint '{joint}' cannot be driven through {' and '.join(sorted(interfaces))} at once; "
-                    f"choose one of {', '.join(m for m in COMMAND_MODES if m in declared)}"
-                )
-            if modes[joint] is not None and modes[joint] != interfaces[0]:
-                raise ValueError(
-                    f"joint '{joint}' is already driven through '{modes[joint]}'; stop '{joint}/{modes[joint]}' "
-                    f"in the same switch to start '{joint}/{interfaces[0]}'"
-                )
-            modes[joint] = interfaces[0]
-        return modes
 
     # ----------------------------------------------------------------- actuators
     def _enable(self, joint: str, mode: str) -> None:
@@ -243,50 +210,14 @@ class MujocoSystem(SystemInterface):
 
     # ----------------------------------------------------------------- cyclic
     def _plan_read(self) -> None:
-        """Precompute, once, where each state interface reads from, so ``read`` is a flat loop."""
+        """Work out, once, where each state interface reads from, so ``read`` is a flat loop."""
         assert self._sim is not None and self._data is not None
-        data = self._data
-        plan: list[tuple[Callable[[Any], None], np.ndarray, int, float]] = []
-        sources = {"position": (data.qpos, "q"), "velocity": (data.qvel, "v"), "acceleration": (data.qacc, "v"),
-                   "effort": (data.qfrc_actuator, "v")}
-        for joint in self.info.joints:
-            binding = self._sim.joints[joint.name]
-            for itf in joint.state_interfaces:
-                handle = self._state_handles.get(f"{joint.name}/{itf.name}")
-                if handle is not None:
-                    array, kind = sources[itf.name]
-                    plan.append((handle.set_value, array, binding.qpos_adr if kind == "q" else binding.dof_adr, 1.0))
-        for sensor in self.info.sensors:
-            ft = self._sim.force_torque_sensors[sensor.name]
-            for itf in sensor.state_interfaces:
-                handle = self._state_handles.get(f"{sensor.name}/{itf.name}")
-                if handle is not None:
-                    k = FORCE_TORQUE_INTERFACES.index(itf.name)
-                    adr = ft.force_adr + k if k < 3 else ft.torque_adr + k - 3
-                    # MuJoCo reports the force the parent side applies to the child side; we report the load's.
-                    plan.append((handle.set_value, data.sensordata, adr, -1.0))
-        self._read_plan = plan
-        mirrors: list[tuple[Callable[[], Any], Callable[[Any], None]]] = []
-        for gpio in self.info.gpios:
-            for itf in gpio.command_interfaces:
-                name = f"{gpio.name}/{itf.name}"
-                if name in self._command_handles and name in self._state_handles:
-                    mirrors.append((self._command_handles[name].get_value, self._state_handles[name].set_value))
-            for itf in gpio.state_interfaces:  # nothing is wired to the simulated inputs: they read 0, not NaN
-                handle = self._state_handles.get(f"{gpio.name}/{itf.name}")
-                value = handle.get_value() if handle is not None else None
-                if isinstance(value, float) and math.isnan(value):
-                    handle.set_value(0.0)  # type: ignore[union-attr]
-        self._gpio_mirrors = mirrors
+        self._read_plan = plan_state_reads(self.info, self._sim, self._data, self._state_handles)
+        self._gpio_mirrors = plan_gpio_mirrors(self.info, self._state_handles, self._command_handles)
 
     def _plan_write(self) -> None:
         assert self._sim is not None
-        plan = []
-        for joint, mode in self._modes.items():
-            name = f"{joint}/{mode}"
-            if mode is not None and name in self._command_handles:
-                plan.append((self._command_handles[name].get_value, self._sim.joints[joint].actuators[mode]))
-        self._write_plan = plan
+        self._write_plan = plan_command_writes(self._modes, self._sim, self._command_handles)
 
     def read(self, time: float, period: float) -> ReturnType:
         """Advance physics by ``period`` (whole time steps, remainder carried over), then fill the states.

@@ -4,15 +4,26 @@ The diagrams read only the public introspection calls (``list_controllers``,
 ``list_hardware_components``, ``list_hardware_interfaces``), as ``ros2 control view_controller_chains``
 reads the services of the same names, and normalise their answers here so that drawing code does not
 care whether a field is a lifecycle ``State`` or a string, a ``HardwareInterface`` or a bare name.
+:func:`take_loaned_snapshot` makes the one exception the diagrams allow (an active controller's loans), and
+:func:`controller_claims` says which command interfaces a controller holds or would hold.
 """
 
 from __future__ import annotations
 
 from collections.abc import Iterable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
-__all__ = ["ControllerView", "ComponentView", "Snapshot", "take_snapshot"]
+from ..exceptions import ControllerNotFound
+
+__all__ = [
+    "ControllerView",
+    "ComponentView",
+    "Snapshot",
+    "take_snapshot",
+    "take_loaned_snapshot",
+    "controller_claims",
+]
 
 
 def _label(state: Any) -> str:
@@ -153,3 +164,44 @@ def take_snapshot(
         components=[component_view(c, claimed) for c in raw_components],
         update_rate=rate,
     )
+
+
+def take_loaned_snapshot(
+    source: Any = None,
+    *,
+    controllers: Sequence[Any] | None = None,
+    components: Sequence[Any] | None = None,
+) -> Snapshot:
+    """:func:`take_snapshot`, with each active controller's state interfaces replaced by its loans.
+
+    Only when the controllers come from a running ``source``: given ``list_controllers`` entries are
+    drawn as they are (their ``required_state_interfaces`` is the best there is).
+
+    Raises:
+        TypeError: If neither a source nor both lists are given.
+    """
+    snap = take_snapshot(source, controllers=controllers, components=components)
+    get_controller = getattr(getattr(source, "controller_manager", source), "get_controller", None)
+    if controllers is not None or get_controller is None:
+        return snap
+    views = []
+    for c in snap.controllers:
+        if c.state == "active":
+            try:
+                loans = getattr(get_controller(c.name), "state_interfaces", None)
+            except ControllerNotFound:  # unloaded between the two calls: keep what list_controllers said
+                loans = None
+            if loans is not None:
+                c = replace(c, required_state_interfaces=tuple(str(loan.name) for loan in loans))
+        views.append(c)
+    return replace(snap, controllers=views)
+
+
+def controller_claims(c: ControllerView) -> tuple[tuple[str, ...], tuple[str, ...]]:
+    """``(claimed, would_claim)``: the command interfaces an active controller holds, or those an inactive
+    controller requires (and would claim once activated). Other states hold and require nothing."""
+    if c.state == "active":
+        return c.claimed_interfaces, ()
+    if c.state == "inactive":
+        return (), c.required_command_interfaces
+    return (), ()

@@ -26,7 +26,9 @@ from typing import Any
 
 import numpy as np
 
-from .robot_model import RobotModel, VisualShape, load_urdf_text
+from .animation import PoseRecording
+from .meshcat_geometry import shape_geometry, shape_material
+from .robot_model import RobotModel, load_urdf_text
 from .scene import Scene, ZmqConnection, ground_grid
 
 __all__ = ["Viewer"]
@@ -35,15 +37,6 @@ _log = logging.getLogger(__name__)
 
 # Scene paths: robots go under /meshcat; /Grid and /Axes are meshcat's default ground grid and axes.
 _ROBOTS, _GRID, _AXES = "/meshcat", "/Grid", "/Axes"
-
-# URDF cylinders run along z, three.js cylinders along y.
-_CYLINDER_Z_TO_Y = np.array([[1, 0, 0, 0], [0, 0, -1, 0], [0, 1, 0, 0], [0, 0, 0, 1]], dtype=float)
-
-
-def _rgba_to_hex(rgba: tuple[float, float, float, float]) -> int:
-    r, g, b = (max(0, min(255, round(c * 255))) for c in rgba[:3])
-    return (r << 16) | (g << 8) | b
-
 
 def _is_system(source: Any) -> bool:
     return not isinstance(source, (str, os.PathLike)) and hasattr(source, "urdf")
@@ -87,7 +80,7 @@ class Viewer:
         self._live_period = 1.0 / live_rate if live_rate > 0 else 0.0
         self._last_sent_stamp: float | None = None
         self._subscription: Any = None
-        self._recording: _Recording | None = None
+        self._recording: PoseRecording | None = None
         self._animation: Any = None
         self._closed = False
         self._draw_robot()
@@ -104,37 +97,15 @@ class Viewer:
     def _link_path(self, link: str) -> str:
         return f"{self._root}/{link}"
 
-    def _geometry(self, shape: VisualShape) -> tuple[Any, np.ndarray]:
-        import meshcat.geometry as g
-
-        local = shape.origin
-        if shape.kind == "box":
-            return g.Box(list(shape.size)), local
-        if shape.kind == "cylinder":
-            radius, length = shape.size
-            return g.Cylinder(length, radius), local @ _CYLINDER_Z_TO_Y
-        if shape.kind == "sphere":
-            return g.Sphere(shape.size[0]), local
-        assert shape.mesh_path is not None
-        suffix = Path(shape.mesh_path).suffix.lower()
-        loaders = {".stl": g.StlMeshGeometry, ".obj": g.ObjMeshGeometry, ".dae": g.DaeMeshGeometry}
-        if suffix not in loaders:
-            raise ValueError(f"mesh '{shape.mesh_path}' has an unsupported format (valid: .stl, .obj, .dae)")
-        geometry = loaders[suffix].from_file(shape.mesh_path)
-        return geometry, local @ np.diag([*shape.size, 1.0])
-
     def _draw_robot(self) -> None:
-        import meshcat.geometry as g
-
         for shape in self.model.visuals:
             try:
-                geometry, local = self._geometry(shape)
+                geometry, local = shape_geometry(shape)
             except (OSError, ValueError) as exc:
                 _log.warning("link '%s': visual %d left out: %s", shape.link, shape.index, exc)
                 continue
-            material = g.MeshPhongMaterial(color=_rgba_to_hex(shape.rgba), opacity=float(shape.rgba[3]))
             path = f"{self._link_path(shape.link)}/visual_{shape.index}"
-            self.scene.set_object(path, geometry, material)
+            self.scene.set_object(path, geometry, shape_material(shape))
             self.scene.set_transform(path, local)
 
     def _frame_camera(self) -> None:
@@ -220,7 +191,7 @@ class Viewer:
         """
         if not fps > 0:
             raise ValueError(f"fps must be > 0 frames per second, got {fps}")
-        self._recording = _Recording(fps)
+        self._recording = PoseRecording(fps)
         self._recording.sample(None, self.model.link_poses())
 
     def stop_recording(self, play: bool = True) -> Any:
@@ -342,36 +313,3 @@ class Viewer:
         where = self.url or "no server"
         return f"<Viewer '{self.model.name}' ({len(self.model.joint_names)} joints) {where}>"
 
-
-class _Recording:
-    """Link poses sampled at a fixed frame rate of simulated time."""
-
-    def __init__(self, fps: float) -> None:
-        self.fps = fps
-        self._t0: float | None = None
-        self._last_time: float | None = None
-        self._last_frame = -1
-        self.frames: list[tuple[int, dict[str, np.ndarray]]] = []
-
-    def sample(self, time: float | None, poses: dict[str, np.ndarray]) -> None:
-        if time is None:  # no clock information: the next frame
-            time = (self._last_time + 1.0 / self.fps) if self._last_time is not None else 0.0
-        if self._t0 is None:
-            self._t0 = time
-        self._last_time = time
-        frame = math.floor((time - self._t0) * self.fps + 1e-6)
-        if frame <= self._last_frame:  # this frame already holds the pose at its start time
-            return
-        self._last_frame = frame
-        self.frames.append((frame, poses))
-
-    def animation(self, root: str) -> Any:
-        from meshcat.animation import Animation, AnimationFrameVisualizer
-        from meshcat.path import Path as MeshcatPath
-
-        anim = Animation(default_framerate=self.fps)
-        for frame, poses in self.frames:
-            for link, pose in poses.items():
-                entries = tuple(p for p in f"{root}/{link}".split("/") if p)
-                AnimationFrameVisualizer(anim, MeshcatPath(entries), frame).set_transform(pose)
-        return anim

@@ -1,0 +1,132 @@
+"""The loaned interfaces of the joint trajectory controller, sorted by kind and joint.
+
+A JTC reads ``<joint>/<state interface>`` for each of its joints and writes
+``<command joint>/<command interface>`` for each command joint, where the command joints may be fewer
+than the joints (or, in a chain, another controller's references). :class:`JointInterfaces` keeps the
+loans of an active JTC in joint order per interface kind and turns them into
+``JointTrajectoryPoint`` values and back: the measured state, the last commands (as a state, when a
+controller restarts), and the commands of a sample.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+
+from ..handles import LoanedCommandInterface, LoanedStateInterface
+from ..msgs import JointTrajectoryPoint
+
+__all__ = ["JointInterfaces"]
+
+
+class JointInterfaces:
+    """The command and state interfaces of an active JTC, per kind in joint order.
+
+    Args:
+        joints: The controller's joints (``joints`` parameter).
+        command_joints: Prefixes of the command interfaces (``command_joints``, else ``joints``).
+        command_kinds: ``command_interfaces`` parameter, e.g. ``["position", "velocity"]``.
+        state_kinds: ``state_interfaces`` parameter.
+        command_interfaces: The loaned command interfaces, in any order.
+        state_interfaces: The loaned state interfaces, in any order.
+        cmd_to_joint: For each command joint, the index of its joint in ``joints``.
+
+    Raises:
+        KeyError: With the full name of an interface the controller needs but was not given.
+    """
+
+    def __init__(
+        self,
+        joints: Sequence[str],
+        command_joints: Sequence[str],
+        command_kinds: Sequence[str],
+        state_kinds: Sequence[str],
+        command_interfaces: Sequence[LoanedCommandInterface],
+        state_interfaces: Sequence[LoanedStateInterface],
+        cmd_to_joint: Sequence[int],
+    ) -> None:
+        by_name_c = {c.name: c for c in command_interfaces}
+        by_name_s = {s.name: s for s in state_interfaces}
+        self._commands = {k: [by_name_c[f"{j}/{k}"] for j in command_joints] for k in command_kinds}
+        self._states = {k: [by_name_s[f"{j}/{k}"] for j in joints] for k in state_kinds}
+        self._cmd_to_joint = list(cmd_to_joint)
+        self._dof = len(joints)
+
+    def command_values(self, kind: str, fill: float) -> list[float]:
+        """Per joint, the value of its ``kind`` command interface, ``fill`` for joints without one."""
+        values = [fill] * self._dof
+        for i, loan in enumerate(self._commands[kind]):
+            values[self._cmd_to_joint[i]] = loan.get_value()
+        return values
+
+    def read_state(self) -> JointTrajectoryPoint:
+        """The measured state: positions, velocities and accelerations as far as the state interfaces go.
+
+        Accelerations are read only together with velocities; the effort is the effort command (NaN for
+        joints without one), as the state interfaces carry no effort.
+        """
+        point = JointTrajectoryPoint(positions=[h.get_value() for h in self._states["position"]])
+        if "velocity" in self._states:
+            point.velocities = [h.get_value() for h in self._states["velocity"]]
+            if "acceleration" in self._states:
+                point.accelerations = [h.get_value() for h in self._states["acceleration"]]
+        if "effort" in self._commands:
+            point.effort = self.command_values("effort", math.nan)
+        return point
+
+    def state_from_commands(self) -> JointTrajectoryPoint | None:
+        """The commands as a state (a controller restart), or None if a needed one is NaN.
+
+        Velocities and accelerations are taken where the state interfaces have them, the effort where the
+        command interfaces do.
+        """
+        def finite(kind: str) -> list[float] | None:
+            if kind not in self._commands:
+                return None
+            vals = self.command_values(kind, math.nan)
+            return vals if all(math.isfinite(v) for v in vals) else None
+
+        point = JointTrajectoryPoint()
+        pos = finite("position")
+        if pos is None:
+            return None
+        point.positions = pos
+        for kind, attr in (("velocity", "velocities"), ("acceleration", "accelerations")):
+            if kind in self._states:
+                vals = finite(kind)
+                if vals is None:
+                    return None
+                setattr(point, attr, vals)
+        if "effort" in self._commands:
+            vals = finite("effort")
+            if vals is None:
+                return None
+            point.effort = vals
+        return point
+
+    def positions_to_hold(self) -> list[float]:
+        """Per joint, the last finite position command, else the measured position (padding partial goals)."""
+        commands = self.command_values("position", math.nan) if "position" in self._commands else [math.nan] * self._dof
+        return [c if math.isfinite(c) else self._states["position"][i].get_value() for i, c in enumerate(commands)]
+
+    def command_point(self) -> JointTrajectoryPoint:
+        """The current commands as a point (fields of the missing command kinds stay empty)."""
+        point = JointTrajectoryPoint()
+        for kind, attr in (("position", "positions"), ("velocity", "velocities"), ("acceleration", "accelerations"),
+                           ("effort", "effort")):
+            if kind in self._commands:
+                setattr(point, attr, self.command_values(kind, math.nan))
+        return point
+
+    def write(self, kind: str, values: Sequence[float]) -> None:
+        """Write per-joint ``values`` to the ``kind`` command interfaces; nothing if fewer values than joints."""
+        if len(values) < self._dof:
+            return  # e.g. interpolation 'none' and a waypoint without that field
+        for i, loan in enumerate(self._commands[kind]):
+            loan.set_value(values[self._cmd_to_joint[i]])
+
+    def stop_motion(self) -> None:
+        """Set every velocity, acceleration and effort command to 0 (positions keep their last value)."""
+        for kind in ("velocity", "acceleration", "effort"):
+            for loan in self._commands.get(kind, []):
+                loan.set_value(0.0)
