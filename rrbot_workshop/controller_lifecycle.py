@@ -57,6 +57,9 @@ def create(cm: ControllerManager, name: str, type_name: str | None) -> Controlle
     ctrl = cls()
     parameters = params.parameters_for(name)
     parameters.pop("type", None)
+    fallback = parameters.get("fallback_controllers", [])
+    if not isinstance(fallback, list) or not all(isinstance(f, str) for f in fallback):
+        raise ControllerError(f"controller '{name}': 'fallback_controllers' must be a list of names, got {fallback!r}")
     try:
         result = ctrl.init(name, cm.robot_description, cm.update_rate, cm.bus, parameters, clock=cm.clock.now)
     except Exception:
@@ -65,9 +68,6 @@ def create(cm: ControllerManager, name: str, type_name: str | None) -> Controlle
     if result is not CallbackReturn.SUCCESS:
         cm.bus.remove_owner(name)
         raise ControllerError(f"controller '{name}' ({type_name}): on_init returned {result.value}")
-    fallback = parameters.get("fallback_controllers", [])
-    if not isinstance(fallback, list) or not all(isinstance(f, str) for f in fallback):
-        raise ControllerError(f"controller '{name}': 'fallback_controllers' must be a list of names, got {fallback!r}")
     return ControllerSpec(name, type_name, ctrl, list(fallback))
 
 
@@ -136,11 +136,15 @@ def set_state(cm: ControllerManager, spec: ControllerSpec, state: str | State) -
     methods, so that the update order follows.
 
     Raises:
-        ControllerError: If the transition is not possible from its state (or fails).
+        ControllerError: If the label is not a lifecycle state, or the transition is not possible from its
+            state (or fails).
         SwitchError: If activation or deactivation is rejected.
     """
     name = spec.name
-    target = state if isinstance(state, State) else State.from_label(state)
+    try:
+        target = state if isinstance(state, State) else State.from_label(state)
+    except ValueError as exc:
+        raise ControllerError(f"controller '{name}': {exc}") from exc
     current = spec.state
     if target is current:
         return

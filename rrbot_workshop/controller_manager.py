@@ -185,7 +185,8 @@ class ControllerManager:
 
         Raises:
             ControllerNotFound: If it is not loaded.
-            ControllerError: If the transition is not possible from its state (or fails).
+            ControllerError: If the label is not a lifecycle state, or the transition is not possible from
+                its state (or fails).
             SwitchError: If activation or deactivation is rejected.
         """
         controller_lifecycle.set_state(self, self._spec(name), state)

@@ -93,8 +93,18 @@ class ResourceManager(ResourceInterfaces):
             HardwareError: If names repeat, a plugin is missing or unknown, ``on_init`` fails, or the
                 exported interfaces do not match the description. Nothing is loaded then.
         """
-        for info, cls in check_infos(infos, self._entries, self._initial_states):
-            self.import_component(cls(), info, _transition=False)
+        loaded: list[str] = []
+        try:
+            for info, cls in check_infos(infos, self._entries, self._initial_states):
+                self.import_component(cls(), info, _transition=False)
+                loaded.append(info.name)
+        except Exception:
+            # A rejected load changes nothing: forget the components this call already loaded.
+            for name in loaded:
+                entry = self._entries.pop(name)
+                self._storage.remove_hardware(name, entry.state_names, entry.command_names)
+            self._cycle_order = cycle_order(self._entries.values())
+            raise
         for info in infos:
             default = State.ACTIVE if self.activate_all else State.UNCONFIGURED
             target = self._initial_states.get(info.name, default)
@@ -115,8 +125,10 @@ class ResourceManager(ResourceInterfaces):
             raise HardwareError(f"hardware component '{info.name}' is already loaded")
         self._entries[info.name] = load_component(impl, info, self._storage, self.update_rate)
         self._cycle_order = cycle_order(self._entries.values())
-        if _transition and self.activate_all:
-            self.set_component_state(info.name, self._initial_states.get(info.name, State.ACTIVE))
+        if _transition:
+            target = self._initial_states.get(info.name, State.ACTIVE if self.activate_all else State.UNCONFIGURED)
+            if target is not State.UNCONFIGURED:
+                self.set_component_state(info.name, target)
 
     # ================================================================= lifecycle
     def _entry(self, name: str) -> ComponentEntry:

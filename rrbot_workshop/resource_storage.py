@@ -43,6 +43,18 @@ class InterfaceStorage:
             self.commands[c.name] = c
             self.hardware_owner[c.name] = component
 
+    def remove_hardware(self, component: str, state_names: Iterable[str], command_names: Iterable[str]) -> None:
+        """Forget a component's handles (used to undo a load that failed part-way)."""
+        for name in state_names:
+            self.states.pop(name, None)
+            self.available_states.discard(name)
+        for name in command_names:
+            self.commands.pop(name, None)
+            self.available_commands.discard(name)
+            self.claims.pop(name, None)
+        for name in [n for n, owner in self.hardware_owner.items() if owner == component]:
+            del self.hardware_owner[name]
+
     def set_available(self, state_names: Iterable[str], command_names: Iterable[str], available: bool) -> None:
         """Mark interfaces available or not."""
         if available:
