@@ -11,7 +11,7 @@ import argparse
 import time
 
 import rrbot_workshop as rw
-from rrbot_workshop.goal_publishers import JointTrajectoryGoalPublisher
+from rrbot_workshop.controllers.goal_publishers import JointTrajectoryGoalPublisher
 
 CASES = {
     "JSB + JTC": ("rrbot_controllers.yaml", ["joint_state_broadcaster", "joint_trajectory_controller"]),

@@ -16,8 +16,8 @@ import sys
 import time
 
 import rrbot_workshop as rw
+from rrbot_workshop.middleware.topics import TopicBus
 from rrbot_workshop.msgs import Float64MultiArray, Header, JointState
-from rrbot_workshop.topics import TopicBus
 
 
 def bench_framework(cycles: int) -> float:

@@ -25,7 +25,7 @@ import yaml
 import rrbot_workshop as rw
 from rrbot_workshop import msgs
 from rrbot_workshop.hardware.mujoco_system import MujocoSystem
-from rrbot_workshop.lifecycle import State
+from rrbot_workshop.middleware.lifecycle import State
 
 _ROOT = rw.description.descriptions_root() / "rrbot"
 _GOALS = ([0.785, 0.785], [0.0, 0.0], [-0.785, -0.785], [0.0, 0.0])

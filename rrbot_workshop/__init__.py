@@ -1,9 +1,12 @@
 """rrbot_workshop: ros2_control, rebuilt in Python for a hands-on course.
 
-The layers, lowest first: :mod:`~rrbot_workshop.description` (xacro, URDF, ``<ros2_control>``),
-:mod:`~rrbot_workshop.hardware` (components), :mod:`~rrbot_workshop.resource_manager`,
-:mod:`~rrbot_workshop.controllers`, :mod:`~rrbot_workshop.controller_manager`, and
-:func:`bringup`, which wires a description and a controllers YAML into a running system.
+One package per ros2_control layer, each importing only the ones below it: :mod:`~rrbot_workshop.middleware`
+(clock, parameters, topics, plugins), :mod:`~rrbot_workshop.description` (xacro, URDF, ``<ros2_control>``),
+:mod:`~rrbot_workshop.hardware_interface` (handles, component interfaces, resource manager),
+:mod:`~rrbot_workshop.hardware` (GenericSystem, MuJoCo), :mod:`~rrbot_workshop.controller_interface`,
+:mod:`~rrbot_workshop.controllers`, :mod:`~rrbot_workshop.controller_manager`, and :func:`bringup`, which
+wires a description and a controllers YAML into a running system. :mod:`~rrbot_workshop.viz` and
+:mod:`~rrbot_workshop.course` sit on top.
 Submodules are imported on first use so ``import rrbot_workshop`` stays fast.
 """
 
@@ -12,7 +15,7 @@ from __future__ import annotations
 import importlib
 from typing import Any
 
-from .exceptions import (
+from rrbot_workshop.exceptions import (
     ControllerError,
     ControllerNotFound,
     DescriptionError,
@@ -44,7 +47,6 @@ __all__ = [
     "params",
     "topics",
     "motion",
-    "tuning",
     "RRBotWorkshopError",
     "DescriptionError",
     "HardwareError",
@@ -60,16 +62,34 @@ __all__ = [
     "MessageError",
 ]
 
+#: Attribute -> module, imported on first use.
 _SUBMODULES = {
-    "description", "hardware", "controllers", "msgs", "control_toolbox", "viz", "grading", "plugins",
-    "params", "topics", "motion", "tuning", "lifecycle", "handles", "resource_manager", "controller_manager",
-    "magics", "tracks",
+    "description": "description",
+    "middleware": "middleware",
+    "hardware_interface": "hardware_interface",
+    "hardware": "hardware",
+    "controller_interface": "controller_interface",
+    "controller_manager": "controller_manager",
+    "controllers": "controllers",
+    "control_toolbox": "control_toolbox",
+    "msgs": "msgs",
+    "motion": "motion",
+    "viz": "viz",
+    "course": "course",
+    "testing": "testing",
+    # shortcuts to the modules learners use most
+    "params": "middleware.params",
+    "topics": "middleware.topics",
+    "plugins": "middleware.plugins",
+    "lifecycle": "middleware.lifecycle",
+    "grading": "course.grading",
+    "tracks": "course.tracks",
 }
 
 
 def __getattr__(name: str) -> Any:
     if name in _SUBMODULES:
-        return importlib.import_module(f".{name}", __name__)
+        return importlib.import_module(f".{_SUBMODULES[name]}", __name__)
     if name in ("bringup", "System"):
         module = importlib.import_module(".bringup", __name__)
         return getattr(module, name)
@@ -78,6 +98,6 @@ def __getattr__(name: str) -> Any:
 
 def load_ipython_extension(ipython: Any) -> None:
     """``%load_ext rrbot_workshop`` registers the ``%control`` and ``%topic`` magics."""
-    from .magics import load_ipython_extension as _load
+    from rrbot_workshop.course.magics import load_ipython_extension as _load
 
     _load(ipython)

@@ -25,14 +25,14 @@ from pathlib import Path
 from types import TracebackType
 from typing import Any
 
-from .clock import Clock, WallClock, make_clock
-from .controller_manager import ControllerManager
-from .description.info import HardwareInfo
-from .exceptions import ControllerNotFound, DescriptionError, HardwareError, ParameterError
-from .lifecycle import State
-from .params import ControllersConfig, load_controllers_yaml
-from .resource_manager import ResourceManager
-from .topics import TopicBus
+from rrbot_workshop.controller_manager.manager import ControllerManager
+from rrbot_workshop.description.info import HardwareInfo
+from rrbot_workshop.exceptions import ControllerNotFound, DescriptionError, HardwareError, ParameterError
+from rrbot_workshop.hardware_interface.resource_manager import ResourceManager
+from rrbot_workshop.middleware.clock import Clock, WallClock, make_clock
+from rrbot_workshop.middleware.lifecycle import State
+from rrbot_workshop.middleware.params import ControllersConfig, load_controllers_yaml
+from rrbot_workshop.middleware.topics import TopicBus
 
 __all__ = ["bringup", "System", "current_system", "get_system", "systems"]
 
@@ -198,7 +198,7 @@ class System:
 # ===================================================================== resolving inputs
 def _description_to_urdf(description: str | Path, xacro_args: Mapping[str, Any]) -> tuple[str, str | None, str]:
     """(URDF text, package name if known, source label)."""
-    from .description import descriptions_root, process_xacro
+    from rrbot_workshop.description import descriptions_root, process_xacro
 
     text = str(description)
     if isinstance(description, str) and text.lstrip().startswith("<"):
@@ -241,7 +241,7 @@ def _controllers_config(controllers: Any, package: str | None) -> ControllersCon
         return load_controllers_yaml(text)
     path = Path(text)
     if not path.exists() and package is not None and "/" not in text:
-        from .description import descriptions_root
+        from rrbot_workshop.description import descriptions_root
 
         candidate = descriptions_root() / package / "config" / text
         if candidate.exists():
@@ -320,7 +320,7 @@ def bringup(
         ControllerError: If a controller fails to load, configure or activate.
         SwitchError: If activating ``spawn`` is rejected.
     """
-    from .description import parse_ros2_control
+    from rrbot_workshop.description import parse_ros2_control
 
     urdf, package, source = _description_to_urdf(description, xacro_args or {})
     cfg = _controllers_config(controllers, package)

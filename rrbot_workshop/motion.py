@@ -14,8 +14,8 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 
-from .exceptions import ParameterError
-from .msgs import Header, JointTrajectory, JointTrajectoryPoint
+from rrbot_workshop.exceptions import ParameterError
+from rrbot_workshop.msgs import Header, JointTrajectory, JointTrajectoryPoint
 
 __all__ = ["jerk_limited_trajectory"]
 

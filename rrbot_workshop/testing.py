@@ -10,11 +10,21 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from typing import Any
 
-from .controllers.base import ChainableControllerInterface, ControllerInterface, InterfaceConfigurationType
-from .exceptions import ControllerError, InterfaceNotFound
-from .handles import CommandInterface, Handle, LoanedCommandInterface, LoanedStateInterface, StateInterface
-from .lifecycle import CallbackReturn, ReturnType, State
-from .topics import TopicBus
+from rrbot_workshop.controller_interface.base import (
+    ChainableControllerInterface,
+    ControllerInterface,
+    InterfaceConfigurationType,
+)
+from rrbot_workshop.exceptions import ControllerError, InterfaceNotFound
+from rrbot_workshop.hardware_interface.handles import (
+    CommandInterface,
+    Handle,
+    LoanedCommandInterface,
+    LoanedStateInterface,
+    StateInterface,
+)
+from rrbot_workshop.middleware.lifecycle import CallbackReturn, ReturnType, State
+from rrbot_workshop.middleware.topics import TopicBus
 
 __all__ = ["ControllerHarness"]
 

@@ -35,7 +35,7 @@ from __future__ import annotations
 import re  # noqa: F401 - for task 4.6
 from typing import Any
 
-from rrbot_workshop.controller_manager import ControllerManager
+from rrbot_workshop.controller_manager.manager import ControllerManager
 from rrbot_workshop.exceptions import SwitchError  # noqa: F401 - for task 4.6
 
 __all__ = [

@@ -5,7 +5,7 @@ from __future__ import annotations
 import importlib
 from typing import Any
 
-from .base import (
+from rrbot_workshop.controller_interface.base import (
     ChainableControllerInterface,
     ControllerInterface,
     InterfaceConfiguration,

@@ -13,13 +13,17 @@ from __future__ import annotations
 import math
 from typing import Any
 
-from ..exceptions import ParameterError
-from ..handles import CommandInterface, LoanedCommandInterface, LoanedStateInterface
-from ..lifecycle import CallbackReturn, ReturnType, State
-from ..msgs import Header, Odometry, Quaternion, TwistStamped
-from .base import ChainableControllerInterface, InterfaceConfiguration, InterfaceConfigurationType
-from .odometry import Odometry as OdometryModel
-from .odometry import SpeedLimiter
+from rrbot_workshop.controller_interface.base import (
+    ChainableControllerInterface,
+    InterfaceConfiguration,
+    InterfaceConfigurationType,
+)
+from rrbot_workshop.controllers.odometry import Odometry as OdometryModel
+from rrbot_workshop.controllers.odometry import SpeedLimiter
+from rrbot_workshop.exceptions import ParameterError
+from rrbot_workshop.hardware_interface.handles import CommandInterface, LoanedCommandInterface, LoanedStateInterface
+from rrbot_workshop.middleware.lifecycle import CallbackReturn, ReturnType, State
+from rrbot_workshop.msgs import Header, Odometry, Quaternion, TwistStamped
 
 __all__ = ["DiffDriveController"]
 

@@ -25,11 +25,15 @@ from __future__ import annotations
 import math
 from typing import ClassVar
 
-from ..lifecycle import CallbackReturn, ReturnType, State
-from ..msgs import Header, JointControllerState, JointJog, SetBoolRequest, SetBoolResponse
-from ..params import register_validator
-from ..topics import Publisher, Service, Subscription
-from .base import ControllerInterface, InterfaceConfiguration, InterfaceConfigurationType
+from rrbot_workshop.controller_interface.base import (
+    ControllerInterface,
+    InterfaceConfiguration,
+    InterfaceConfigurationType,
+)
+from rrbot_workshop.middleware.lifecycle import CallbackReturn, ReturnType, State
+from rrbot_workshop.middleware.params import register_validator
+from rrbot_workshop.middleware.topics import Publisher, Service, Subscription
+from rrbot_workshop.msgs import Header, JointControllerState, JointJog, SetBoolRequest, SetBoolResponse
 
 __all__ = ["DisplacementController", "forbidden_interface_name_prefix"]
 

@@ -12,7 +12,7 @@ import enum
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
-from ..msgs import Header, JointTolerance, JointTrajectory, JointTrajectoryPoint
+from rrbot_workshop.msgs import Header, JointTolerance, JointTrajectory, JointTrajectoryPoint
 
 __all__ = [
     "GoalStatus",

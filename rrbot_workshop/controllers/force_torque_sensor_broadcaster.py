@@ -15,10 +15,14 @@ from __future__ import annotations
 import math
 from typing import ClassVar
 
-from ..lifecycle import CallbackReturn, ReturnType, State
-from ..msgs import Header, Vector3, Wrench, WrenchStamped
-from ..topics import Publisher
-from .base import ControllerInterface, InterfaceConfiguration, InterfaceConfigurationType
+from rrbot_workshop.controller_interface.base import (
+    ControllerInterface,
+    InterfaceConfiguration,
+    InterfaceConfigurationType,
+)
+from rrbot_workshop.middleware.lifecycle import CallbackReturn, ReturnType, State
+from rrbot_workshop.middleware.topics import Publisher
+from rrbot_workshop.msgs import Header, Vector3, Wrench, WrenchStamped
 
 __all__ = ["ForceTorqueSensorBroadcaster", "AXES"]
 

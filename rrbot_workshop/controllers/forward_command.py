@@ -24,10 +24,14 @@ from __future__ import annotations
 import math
 from typing import ClassVar
 
-from ..lifecycle import CallbackReturn, ReturnType, State
-from ..msgs import Float64MultiArray
-from ..topics import Subscription
-from .base import ControllerInterface, InterfaceConfiguration, InterfaceConfigurationType
+from rrbot_workshop.controller_interface.base import (
+    ControllerInterface,
+    InterfaceConfiguration,
+    InterfaceConfigurationType,
+)
+from rrbot_workshop.middleware.lifecycle import CallbackReturn, ReturnType, State
+from rrbot_workshop.middleware.topics import Subscription
+from rrbot_workshop.msgs import Float64MultiArray
 
 __all__ = [
     "ForwardControllersBase",

@@ -25,10 +25,14 @@ from __future__ import annotations
 import xml.etree.ElementTree as ET
 from typing import ClassVar
 
-from ..lifecycle import CallbackReturn, ReturnType, State
-from ..msgs import DynamicInterfaceGroupValues, Header, InterfaceValue
-from ..topics import Publisher, Subscription
-from .base import ControllerInterface, InterfaceConfiguration, InterfaceConfigurationType
+from rrbot_workshop.controller_interface.base import (
+    ControllerInterface,
+    InterfaceConfiguration,
+    InterfaceConfigurationType,
+)
+from rrbot_workshop.middleware.lifecycle import CallbackReturn, ReturnType, State
+from rrbot_workshop.middleware.topics import Publisher, Subscription
+from rrbot_workshop.msgs import DynamicInterfaceGroupValues, Header, InterfaceValue
 
 __all__ = ["GpioCommandController", "urdf_gpio_state_interfaces"]
 

@@ -24,10 +24,14 @@ import math
 import xml.etree.ElementTree as ET
 from typing import Any
 
-from ..lifecycle import CallbackReturn, ReturnType, State
-from ..msgs import DynamicJointState, Header, InterfaceValue, JointState
-from ..topics import Publisher
-from .base import ControllerInterface, InterfaceConfiguration, InterfaceConfigurationType
+from rrbot_workshop.controller_interface.base import (
+    ControllerInterface,
+    InterfaceConfiguration,
+    InterfaceConfigurationType,
+)
+from rrbot_workshop.middleware.lifecycle import CallbackReturn, ReturnType, State
+from rrbot_workshop.middleware.topics import Publisher
+from rrbot_workshop.msgs import DynamicJointState, Header, InterfaceValue, JointState
 
 __all__ = ["JointStateBroadcaster", "urdf_movable_joints"]
 

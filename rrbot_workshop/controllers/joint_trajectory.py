@@ -24,29 +24,37 @@ import copy
 import xml.etree.ElementTree as ET
 from typing import Any
 
-from ..exceptions import ParameterError
-from ..lifecycle import CallbackReturn, ReturnType, State
-from ..msgs import JointTrajectory, JointTrajectoryControllerState, JointTrajectoryPoint
-from .base import ControllerInterface, InterfaceConfiguration, InterfaceConfigurationType
-from .follow_joint_trajectory import FollowJointTrajectoryResult as Result
-from .follow_joint_trajectory import GoalHandle, GoalStatus
-from .joint_trajectory_parameters import JTC_PARAMETERS, check_interface_combinations, validate_trajectory_msg
-from .jtc_action_server import FollowJointTrajectoryServer
-from .jtc_interfaces import JointInterfaces
-from .jtc_messages import (
+from rrbot_workshop.controller_interface.base import (
+    ControllerInterface,
+    InterfaceConfiguration,
+    InterfaceConfigurationType,
+)
+from rrbot_workshop.controllers.follow_joint_trajectory import FollowJointTrajectoryResult as Result
+from rrbot_workshop.controllers.follow_joint_trajectory import GoalHandle, GoalStatus
+from rrbot_workshop.controllers.joint_trajectory_parameters import (
+    JTC_PARAMETERS,
+    check_interface_combinations,
+    validate_trajectory_msg,
+)
+from rrbot_workshop.controllers.jtc_action_server import FollowJointTrajectoryServer
+from rrbot_workshop.controllers.jtc_interfaces import JointInterfaces
+from rrbot_workshop.controllers.jtc_messages import (
     controller_state_message,
     fill_partial_goal,
     hold_position_trajectory,
     last_waypoint_trajectory,
     sort_to_joint_order,
 )
-from .tolerances import (
+from rrbot_workshop.controllers.tolerances import (
     SegmentTolerances,
     check_state_tolerance_per_joint,
     compute_state_error,
     get_segment_tolerances,
 )
-from .trajectory import InterpolationMethod, Trajectory, interpolate_between_points
+from rrbot_workshop.controllers.trajectory import InterpolationMethod, Trajectory, interpolate_between_points
+from rrbot_workshop.exceptions import ParameterError
+from rrbot_workshop.middleware.lifecycle import CallbackReturn, ReturnType, State
+from rrbot_workshop.msgs import JointTrajectory, JointTrajectoryControllerState, JointTrajectoryPoint
 
 __all__ = ["JointTrajectoryController", "interpolate_between_points"]
 
@@ -157,7 +165,7 @@ class JointTrajectoryController(ControllerInterface, FollowJointTrajectoryServer
         )
         self._pids, self._ff = [], []
         if self._use_pid:
-            from ..control_toolbox import Pid  # written alongside; imported only when a PID is needed
+            from rrbot_workshop.control_toolbox.pid import Pid  # written alongside; imported only when a PID is needed
 
             for idx in self._map_cmd_to_joints:
                 g = p.gains.joints_map[p.joints[idx]]

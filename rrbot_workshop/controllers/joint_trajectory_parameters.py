@@ -12,10 +12,10 @@ import math
 from collections.abc import Sequence
 from typing import Any
 
-from ..exceptions import ParameterError
-from ..msgs import JointTrajectory
-from ..params import register_validator
-from .follow_joint_trajectory import FollowJointTrajectoryResult as Result
+from rrbot_workshop.controllers.follow_joint_trajectory import FollowJointTrajectoryResult as Result
+from rrbot_workshop.exceptions import ParameterError
+from rrbot_workshop.middleware.params import register_validator
+from rrbot_workshop.msgs import JointTrajectory
 
 __all__ = [
     "JTC_PARAMETERS",

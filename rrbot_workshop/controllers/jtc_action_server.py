@@ -12,17 +12,17 @@ from __future__ import annotations
 import copy
 from typing import TYPE_CHECKING, Any
 
-from ..lifecycle import State
-from ..msgs import Header, JointTolerance, JointTrajectory
-from .follow_joint_trajectory import (
+from rrbot_workshop.controllers.follow_joint_trajectory import (
     FollowJointTrajectoryFeedback,
     FollowJointTrajectoryGoal,
     GoalHandle,
     GoalStatus,
 )
-from .follow_joint_trajectory import FollowJointTrajectoryResult as Result
-from .joint_trajectory_parameters import validate_trajectory_msg
-from .tolerances import get_segment_tolerances_from_goal
+from rrbot_workshop.controllers.follow_joint_trajectory import FollowJointTrajectoryResult as Result
+from rrbot_workshop.controllers.joint_trajectory_parameters import validate_trajectory_msg
+from rrbot_workshop.controllers.tolerances import get_segment_tolerances_from_goal
+from rrbot_workshop.middleware.lifecycle import State
+from rrbot_workshop.msgs import Header, JointTolerance, JointTrajectory
 
 __all__ = ["FollowJointTrajectoryServer"]
 

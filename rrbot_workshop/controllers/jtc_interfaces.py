@@ -13,8 +13,8 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 
-from ..handles import LoanedCommandInterface, LoanedStateInterface
-from ..msgs import JointTrajectoryPoint
+from rrbot_workshop.hardware_interface.handles import LoanedCommandInterface, LoanedStateInterface
+from rrbot_workshop.msgs import JointTrajectoryPoint
 
 __all__ = ["JointInterfaces"]
 

@@ -12,7 +12,7 @@ from __future__ import annotations
 import copy
 from collections.abc import Mapping, Sequence
 
-from ..msgs import Header, JointTrajectory, JointTrajectoryControllerState, JointTrajectoryPoint
+from rrbot_workshop.msgs import Header, JointTrajectory, JointTrajectoryControllerState, JointTrajectoryPoint
 
 __all__ = [
     "fill_partial_goal",

@@ -24,15 +24,19 @@ from __future__ import annotations
 import math
 from typing import ClassVar
 
-from ..control_toolbox import Pid
-from ..exceptions import ParameterError
-from ..handles import CommandInterface, StateInterface
-from ..lifecycle import CallbackReturn, ReturnType, State
-from ..msgs import Header, MultiDOFCommand, MultiDOFStateStamped, SingleDOFState
-from ..params import Params
-from ..topics import Publisher, Subscription
-from .base import ChainableControllerInterface, InterfaceConfiguration, InterfaceConfigurationType
-from .pid_parameters import PID_CONTROLLER_PARAMETERS
+from rrbot_workshop.control_toolbox.pid import Pid
+from rrbot_workshop.controller_interface.base import (
+    ChainableControllerInterface,
+    InterfaceConfiguration,
+    InterfaceConfigurationType,
+)
+from rrbot_workshop.controllers.pid_parameters import PID_CONTROLLER_PARAMETERS
+from rrbot_workshop.exceptions import ParameterError
+from rrbot_workshop.hardware_interface.handles import CommandInterface, StateInterface
+from rrbot_workshop.middleware.lifecycle import CallbackReturn, ReturnType, State
+from rrbot_workshop.middleware.params import Params
+from rrbot_workshop.middleware.topics import Publisher, Subscription
+from rrbot_workshop.msgs import Header, MultiDOFCommand, MultiDOFStateStamped, SingleDOFState
 
 __all__ = ["PidController", "shortest_angular_distance"]
 
@@ -49,7 +53,7 @@ class PidController(ChainableControllerInterface):
     """PID per DOF with exported reference and state interfaces (ros2_controllers ``pid_controller``).
 
     Attributes:
-        pids: One :class:`~rrbot_workshop.control_toolbox.Pid` per DOF (created at configure).
+        pids: One :class:`~rrbot_workshop.control_toolbox.pid.Pid` per DOF (created at configure).
         reference_and_state_dof_names: DOF names used for references and states.
     """
 

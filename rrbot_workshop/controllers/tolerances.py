@@ -16,8 +16,8 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
-from ..msgs import JointTolerance, JointTrajectoryPoint
-from .trajectory import shortest_angular_distance
+from rrbot_workshop.controllers.trajectory import shortest_angular_distance
+from rrbot_workshop.msgs import JointTolerance, JointTrajectoryPoint
 
 __all__ = [
     "StateTolerances",

@@ -20,7 +20,7 @@ import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-from ..msgs import JointTrajectory, JointTrajectoryPoint
+from rrbot_workshop.msgs import JointTrajectory, JointTrajectoryPoint
 
 __all__ = [
     "InterpolationMethod",

@@ -1,6 +1,6 @@
 """Robot description: xacro processing and the ``<ros2_control>`` parser."""
 
-from .info import (
+from rrbot_workshop.description.info import (
     ComponentInfo,
     HardwareInfo,
     InterfaceInfo,
@@ -9,8 +9,8 @@ from .info import (
     SoftJointLimits,
     TransmissionInfo,
 )
-from .parser import parse_ros2_control
-from .xacro import descriptions_root, process_xacro, resolve_package_uri
+from rrbot_workshop.description.parser import parse_ros2_control
+from rrbot_workshop.description.xacro import descriptions_root, process_xacro, resolve_package_uri
 
 __all__ = [
     "process_xacro",

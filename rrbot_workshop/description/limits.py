@@ -17,8 +17,8 @@ import logging
 import math
 import sys
 
-from .info import InterfaceInfo, JointLimits, SoftJointLimits
-from .urdf_model import UrdfJoint
+from rrbot_workshop.description.info import InterfaceInfo, JointLimits, SoftJointLimits
+from rrbot_workshop.description.urdf_model import UrdfJoint
 
 __all__ = ["joint_limits_from_urdf", "update_interface_limits", "soft_limits_from_urdf", "compute_joint_limits"]
 

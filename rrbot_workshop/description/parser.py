@@ -13,8 +13,7 @@ from __future__ import annotations
 import re
 import xml.etree.ElementTree as ET
 
-from ..exceptions import DescriptionError
-from .info import (
+from rrbot_workshop.description.info import (
     ComponentInfo,
     HardwareInfo,
     InterfaceInfo,
@@ -23,9 +22,10 @@ from .info import (
     TransmissionInfo,
     TransmissionJointInfo,
 )
-from .limits import compute_joint_limits, soft_limits_from_urdf
-from .urdf_model import UrdfModel, local_name, parse_urdf_model
-from .xml_context import XmlContext, children, label, parameters, parse_bool, text_of
+from rrbot_workshop.description.limits import compute_joint_limits, soft_limits_from_urdf
+from rrbot_workshop.description.urdf_model import UrdfModel, local_name, parse_urdf_model
+from rrbot_workshop.description.xml_context import XmlContext, children, label, parameters, parse_bool, text_of
+from rrbot_workshop.exceptions import DescriptionError
 
 __all__ = ["parse_ros2_control", "parse_bool", "ROS2_CONTROL_CHILDREN"]
 

@@ -12,7 +12,7 @@ from __future__ import annotations
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass, field
 
-from ..exceptions import DescriptionError
+from rrbot_workshop.exceptions import DescriptionError
 
 __all__ = [
     "JOINT_TYPES",

@@ -25,7 +25,7 @@ from typing import Any
 import xacro
 import xacro.substitution_args as _subst
 
-from ..exceptions import DescriptionError
+from rrbot_workshop.exceptions import DescriptionError
 
 __all__ = ["descriptions_root", "process_xacro", "resolve_package_uri", "available_packages", "find_package"]
 

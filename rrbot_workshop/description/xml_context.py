@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import xml.etree.ElementTree as ET
 
-from ..exceptions import DescriptionError
-from .urdf_model import local_name
+from rrbot_workshop.description.urdf_model import local_name
+from rrbot_workshop.exceptions import DescriptionError
 
 __all__ = ["parse_bool", "label", "XmlContext", "children", "text_of", "parameters"]
 

@@ -1,5 +1,10 @@
 """Hardware components: base classes, the mock GenericSystem, MuJoCo and the RRBot device driver."""
 
-from .base import ActuatorInterface, HardwareComponentInterface, SensorInterface, SystemInterface
+from rrbot_workshop.hardware_interface.component_interface import (
+    ActuatorInterface,
+    HardwareComponentInterface,
+    SensorInterface,
+    SystemInterface,
+)
 
 __all__ = ["HardwareComponentInterface", "SystemInterface", "ActuatorInterface", "SensorInterface"]

@@ -30,10 +30,10 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 
-from ..description.info import ComponentInfo, HardwareInfo, InterfaceInfo
-from ..handles import CommandInterface, parse_value
-from ..lifecycle import CallbackReturn, ReturnType, State
-from .base import SystemInterface
+from rrbot_workshop.description.info import ComponentInfo, HardwareInfo, InterfaceInfo
+from rrbot_workshop.hardware_interface.component_interface import SystemInterface
+from rrbot_workshop.hardware_interface.handles import CommandInterface, parse_value
+from rrbot_workshop.middleware.lifecycle import CallbackReturn, ReturnType, State
 
 __all__ = ["GenericSystem", "STANDARD_INTERFACES"]
 

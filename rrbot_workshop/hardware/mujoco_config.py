@@ -13,9 +13,9 @@ import xml.etree.ElementTree as ET
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 
-from ..description.info import ComponentInfo, HardwareInfo
-from ..exceptions import DescriptionError
-from .mujoco_model import COMMAND_MODES, ServoGains
+from rrbot_workshop.description.info import ComponentInfo, HardwareInfo
+from rrbot_workshop.exceptions import DescriptionError
+from rrbot_workshop.hardware.mujoco_model import COMMAND_MODES, ServoGains
 
 __all__ = ["JOINT_STATE_INTERFACES", "FORCE_TORQUE_INTERFACES", "SimulationRequest", "simulation_request"]
 

@@ -16,10 +16,10 @@ from typing import Any
 import mujoco
 import numpy as np
 
-from ..description.info import HardwareInfo
-from ..handles import CommandInterface, StateInterface
-from .mujoco_config import FORCE_TORQUE_INTERFACES
-from .mujoco_model import MujocoModel
+from rrbot_workshop.description.info import HardwareInfo
+from rrbot_workshop.hardware.mujoco_config import FORCE_TORQUE_INTERFACES
+from rrbot_workshop.hardware.mujoco_model import MujocoModel
+from rrbot_workshop.hardware_interface.handles import CommandInterface, StateInterface
 
 __all__ = ["StateRead", "GpioMirror", "CommandWrite", "plan_state_reads", "plan_gpio_mirrors", "plan_command_writes"]
 

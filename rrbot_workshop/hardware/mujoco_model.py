@@ -26,8 +26,8 @@ from pathlib import Path
 import mujoco
 import numpy as np
 
-from ..exceptions import DescriptionError
-from .mujoco_urdf import effort_limits, frame_in_body, prepare_urdf
+from rrbot_workshop.exceptions import DescriptionError
+from rrbot_workshop.hardware.mujoco_urdf import effort_limits, frame_in_body, prepare_urdf
 
 __all__ = [
     "COMMAND_MODES",

@@ -10,8 +10,8 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 
-from ..description.info import HardwareInfo
-from .mujoco_model import COMMAND_MODES
+from rrbot_workshop.description.info import HardwareInfo
+from rrbot_workshop.hardware.mujoco_model import COMMAND_MODES
 
 __all__ = ["command_modes_after_switch"]
 

@@ -40,14 +40,21 @@ from collections.abc import Mapping
 
 import mujoco
 
-from ..description.info import HardwareInfo
-from ..exceptions import DescriptionError
-from ..lifecycle import CallbackReturn, ReturnType, State
-from .base import SystemInterface
-from .mujoco_config import simulation_request
-from .mujoco_io import CommandWrite, GpioMirror, StateRead, plan_command_writes, plan_gpio_mirrors, plan_state_reads
-from .mujoco_model import MujocoModel, build_model
-from .mujoco_modes import command_modes_after_switch
+from rrbot_workshop.description.info import HardwareInfo
+from rrbot_workshop.exceptions import DescriptionError
+from rrbot_workshop.hardware.mujoco_config import simulation_request
+from rrbot_workshop.hardware.mujoco_io import (
+    CommandWrite,
+    GpioMirror,
+    StateRead,
+    plan_command_writes,
+    plan_gpio_mirrors,
+    plan_state_reads,
+)
+from rrbot_workshop.hardware.mujoco_model import MujocoModel, build_model
+from rrbot_workshop.hardware.mujoco_modes import command_modes_after_switch
+from rrbot_workshop.hardware_interface.component_interface import SystemInterface
+from rrbot_workshop.middleware.lifecycle import CallbackReturn, ReturnType, State
 
 __all__ = ["MujocoSystem"]
 

@@ -15,8 +15,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..description.xacro import resolve_package_uri
-from ..exceptions import DescriptionError
+from rrbot_workshop.description.xacro import resolve_package_uri
+from rrbot_workshop.exceptions import DescriptionError
 
 __all__ = ["prepare_urdf", "urdf_origin", "frame_in_body", "effort_limits"]
 

@@ -10,10 +10,18 @@ from __future__ import annotations
 from collections.abc import Sequence
 from typing import Any
 
-from .chains_diagram import chain_ranks
-from .diagram_boxes import COMMAND_EDGE, REQUIRED_EDGE, STATE_EDGE, Box, draw_box, draw_legend, measure_box
-from .snapshot import controller_claims, take_loaned_snapshot
-from .svg import FONT_SIZE, LINE_HEIGHT, SvgCanvas, SvgDiagram, text_width
+from rrbot_workshop.viz.chains_diagram import chain_ranks
+from rrbot_workshop.viz.diagram_boxes import (
+    COMMAND_EDGE,
+    REQUIRED_EDGE,
+    STATE_EDGE,
+    Box,
+    draw_box,
+    draw_legend,
+    measure_box,
+)
+from rrbot_workshop.viz.snapshot import controller_claims, take_loaned_snapshot
+from rrbot_workshop.viz.svg import FONT_SIZE, LINE_HEIGHT, SvgCanvas, SvgDiagram, text_width
 
 __all__ = ["architecture"]
 

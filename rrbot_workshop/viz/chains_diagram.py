@@ -11,9 +11,9 @@ from __future__ import annotations
 from collections.abc import Sequence
 from typing import Any
 
-from .diagram_boxes import COMMAND_EDGE, REQUIRED_EDGE, STATE_EDGE, Box, draw_box, draw_legend
-from .snapshot import ControllerView, Snapshot, controller_claims, take_loaned_snapshot
-from .svg import SvgCanvas, SvgDiagram
+from rrbot_workshop.viz.diagram_boxes import COMMAND_EDGE, REQUIRED_EDGE, STATE_EDGE, Box, draw_box, draw_legend
+from rrbot_workshop.viz.snapshot import ControllerView, Snapshot, controller_claims, take_loaned_snapshot
+from rrbot_workshop.viz.svg import SvgCanvas, SvgDiagram
 
 __all__ = ["controller_chains", "chain_ranks"]
 

@@ -11,7 +11,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-from .svg import FONT_SIZE, LINE_HEIGHT, STATE_COLORS, SvgCanvas, text_width
+from rrbot_workshop.viz.svg import FONT_SIZE, LINE_HEIGHT, STATE_COLORS, SvgCanvas, text_width
 
 __all__ = [
     "STATE_EDGE",

@@ -21,8 +21,8 @@ after it was activated and that it never received; ros2_control's own service do
 
 from __future__ import annotations
 
-from .architecture_diagram import architecture
-from .chains_diagram import chain_ranks, controller_chains
-from .lifecycle_diagram import lifecycle_states
+from rrbot_workshop.viz.architecture_diagram import architecture
+from rrbot_workshop.viz.chains_diagram import chain_ranks, controller_chains
+from rrbot_workshop.viz.lifecycle_diagram import lifecycle_states
 
 __all__ = ["controller_chains", "architecture", "lifecycle_states", "chain_ranks"]

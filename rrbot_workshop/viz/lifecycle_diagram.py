@@ -10,9 +10,9 @@ from __future__ import annotations
 from collections.abc import Sequence
 from typing import Any
 
-from .diagram_boxes import Box, draw_box, measure_box
-from .snapshot import take_snapshot
-from .svg import LINE_HEIGHT, SvgCanvas, SvgDiagram
+from rrbot_workshop.viz.diagram_boxes import Box, draw_box, measure_box
+from rrbot_workshop.viz.snapshot import take_snapshot
+from rrbot_workshop.viz.svg import LINE_HEIGHT, SvgCanvas, SvgDiagram
 
 __all__ = ["lifecycle_states"]
 

@@ -13,7 +13,7 @@ from typing import Any
 
 import numpy as np
 
-from .robot_model import VisualShape
+from rrbot_workshop.viz.robot_model import VisualShape
 
 __all__ = ["shape_geometry", "shape_material"]
 

@@ -26,7 +26,7 @@ from typing import Any
 
 import numpy as np
 
-from ..exceptions import InterfaceNotFound
+from rrbot_workshop.exceptions import InterfaceNotFound
 
 __all__ = ["Recorder", "split_kind"]
 

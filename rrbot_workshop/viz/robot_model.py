@@ -19,7 +19,7 @@ from typing import Any
 
 import numpy as np
 
-from ..exceptions import DescriptionError
+from rrbot_workshop.exceptions import DescriptionError
 
 __all__ = ["RobotModel", "VisualShape", "JointRange", "load_urdf_text"]
 
@@ -84,7 +84,7 @@ def load_urdf_text(source: str | os.PathLike[str]) -> tuple[str, str | None]:
                 source=str(path),
             )
         if path.suffix == ".xacro":
-            from ..description import process_xacro
+            from rrbot_workshop.description import process_xacro
 
             return process_xacro(path), str(path.parent)
         return path.read_text(encoding="utf-8"), str(path.parent)
@@ -94,7 +94,7 @@ def load_urdf_text(source: str | os.PathLike[str]) -> tuple[str, str | None]:
 def _default_uri_resolver(base_dir: str | None) -> Callable[[str], str | None]:
     resolve_package_uri: Any
     try:  # the description layer's resolver (package:// -> descriptions/<pkg>/...)
-        from ..description import resolve_package_uri
+        from rrbot_workshop.description import resolve_package_uri
     except ImportError:
         resolve_package_uri = None
 
@@ -116,7 +116,7 @@ def _default_uri_resolver(base_dir: str | None) -> Callable[[str], str | None]:
             if uri.startswith("package://"):  # package://pkg/meshes/x.stl next to the URDF's package
                 candidates.append(os.path.join(base_dir, rest.split("/", 1)[-1]))
         try:
-            from ..description import descriptions_root
+            from rrbot_workshop.description import descriptions_root
 
             root = descriptions_root()
             candidates.append(os.path.join(str(root), rest))

@@ -14,7 +14,7 @@ from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field, replace
 from typing import Any
 
-from ..exceptions import ControllerNotFound
+from rrbot_workshop.exceptions import ControllerNotFound
 
 __all__ = [
     "ControllerView",

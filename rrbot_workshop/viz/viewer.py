@@ -26,10 +26,10 @@ from typing import Any
 
 import numpy as np
 
-from .animation import PoseRecording
-from .meshcat_geometry import shape_geometry, shape_material
-from .robot_model import RobotModel, load_urdf_text
-from .scene import Scene, ZmqConnection, ground_grid
+from rrbot_workshop.viz.animation import PoseRecording
+from rrbot_workshop.viz.meshcat_geometry import shape_geometry, shape_material
+from rrbot_workshop.viz.robot_model import RobotModel, load_urdf_text
+from rrbot_workshop.viz.scene import Scene, ZmqConnection, ground_grid
 
 __all__ = ["Viewer"]
 
@@ -72,7 +72,7 @@ class Viewer:
         self._server: Any = None
         connection = None
         if open_server:
-            from .meshcat_server import MeshcatServer
+            from rrbot_workshop.viz.meshcat_server import MeshcatServer
 
             self._server = MeshcatServer()
             connection = ZmqConnection(self._server.zmq_url)
@@ -87,7 +87,7 @@ class Viewer:
         self._frame_camera()
         self._push_pose()
         if self._system is not None and getattr(self._system, "bus", None) is not None:
-            from ..msgs import JointState
+            from rrbot_workshop.msgs import JointState
 
             self._subscription = self._system.bus.create_subscription(
                 JointState, "/joint_states", self._on_joint_state, owner="viewer"

@@ -29,7 +29,7 @@ from __future__ import annotations
 import re
 from typing import Any
 
-from rrbot_workshop.controller_manager import ControllerManager
+from rrbot_workshop.controller_manager.manager import ControllerManager
 from rrbot_workshop.exceptions import SwitchError
 
 __all__ = [

@@ -1,8 +1,8 @@
 """Shared fixtures of the graders in tests/tasks/.
 
-A grader finds the learner's files through :mod:`rrbot_workshop.tracks` (never by importing ``solutions/``), so
+A grader finds the learner's files through :mod:`rrbot_workshop.course.tracks` (never by importing ``solutions/``), so
 the same grader grades ``exercises/``, ``solutions/`` or a copy named by ``$RRBOT_WORKSHOP_TASK_ROOT``. Run a
-grader with ``rrbot-workshop grade N`` (or ``rrbot_workshop.grading.check(N)``): that adds the rubric plugin
+grader with ``rrbot-workshop grade N`` (or ``rrbot_workshop.course.grading.check(N)``): that adds the rubric plugin
 with its per-check time limit. Plain ``pytest tests/tasks/...`` also works, without points or time limits.
 """
 
@@ -13,7 +13,7 @@ from pathlib import Path
 
 import pytest
 
-from rrbot_workshop import tracks
+from rrbot_workshop.course import tracks
 
 
 @pytest.fixture(scope="session")

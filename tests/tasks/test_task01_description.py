@@ -33,9 +33,9 @@ import numpy as np
 import pytest
 import yourdfpy
 
+from rrbot_workshop.course.grading import graded
 from rrbot_workshop.description import parse_ros2_control, process_xacro
 from rrbot_workshop.description.info import ComponentInfo, HardwareInfo
-from rrbot_workshop.grading import graded
 
 TASK = 1
 MAIN_FILE = "rrbot_description/urdf/rrbot.urdf.xacro"

@@ -36,12 +36,12 @@ import yaml
 
 import rrbot_workshop as rw
 from rrbot_workshop.bringup import bringup, systems
+from rrbot_workshop.controllers.goal_publishers import DEFAULT_GOALS, JointTrajectoryGoalPublisher
+from rrbot_workshop.course.grading import graded
 from rrbot_workshop.description import parse_ros2_control, process_xacro
 from rrbot_workshop.description.info import HardwareInfo
-from rrbot_workshop.goal_publishers import DEFAULT_GOALS, JointTrajectoryGoalPublisher
-from rrbot_workshop.grading import graded
+from rrbot_workshop.hardware_interface.resource_manager import ResourceManager
 from rrbot_workshop.msgs import Float64MultiArray
-from rrbot_workshop.resource_manager import ResourceManager
 
 TASK = 2
 DESCRIPTION = "rrbot_description/urdf/rrbot.urdf.xacro"

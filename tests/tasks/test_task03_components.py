@@ -23,7 +23,7 @@ from typing import Any
 import pytest
 
 from rrbot_workshop.bringup import System, bringup
-from rrbot_workshop.grading import graded
+from rrbot_workshop.course.grading import graded
 
 TASK = 3
 ANSWERS = "answers.py"

@@ -32,8 +32,8 @@ import pytest
 import yaml
 
 import rrbot_workshop as rw
+from rrbot_workshop.course.grading import graded
 from rrbot_workshop.description import descriptions_root
-from rrbot_workshop.grading import graded
 
 TASK = 4
 MAIN_FILE = "introspection.py"

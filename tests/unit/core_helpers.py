@@ -5,20 +5,20 @@ from __future__ import annotations
 
 from typing import Any
 
-from rrbot_workshop import plugins
-from rrbot_workshop.controller_manager import ControllerManager
-from rrbot_workshop.controllers.base import (
+from rrbot_workshop.controller_interface.base import (
     ChainableControllerInterface,
     ControllerInterface,
     InterfaceConfiguration,
     InterfaceConfigurationType,
 )
+from rrbot_workshop.controller_manager.manager import ControllerManager
 from rrbot_workshop.description.info import ComponentInfo, HardwareInfo, InterfaceInfo
-from rrbot_workshop.handles import CommandInterface, StateInterface
-from rrbot_workshop.hardware.base import SensorInterface, SystemInterface
-from rrbot_workshop.lifecycle import CallbackReturn, ReturnType, State
-from rrbot_workshop.params import load_controllers_yaml
-from rrbot_workshop.resource_manager import ResourceManager
+from rrbot_workshop.hardware_interface.component_interface import SensorInterface, SystemInterface
+from rrbot_workshop.hardware_interface.handles import CommandInterface, StateInterface
+from rrbot_workshop.hardware_interface.resource_manager import ResourceManager
+from rrbot_workshop.middleware import plugins
+from rrbot_workshop.middleware.lifecycle import CallbackReturn, ReturnType, State
+from rrbot_workshop.middleware.params import load_controllers_yaml
 
 __all__ = [
     "TestSystem",

@@ -10,7 +10,7 @@ import pytest
 import rrbot_workshop as rw
 from rrbot_workshop.bringup import bringup, current_system, get_system, systems
 from rrbot_workshop.exceptions import ControllerNotFound, DescriptionError, HardwareError, ParameterError, SwitchError
-from rrbot_workshop.lifecycle import State
+from rrbot_workshop.middleware.lifecycle import State
 
 URDF = """<robot name="tiny">
   <link name="base"/><link name="l1"/><link name="l2"/>

@@ -11,7 +11,7 @@ import pytest
 from core_helpers import load_configure, make_cm
 
 from rrbot_workshop.exceptions import SwitchError
-from rrbot_workshop.lifecycle import ReturnType, State
+from rrbot_workshop.middleware.lifecycle import ReturnType, State
 
 CHAIN = "test_controller/TestChainableController"
 

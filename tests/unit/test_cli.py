@@ -13,10 +13,10 @@ from pathlib import Path
 
 import pytest
 
-from rrbot_workshop import tracks
-from rrbot_workshop.cli import main
+from rrbot_workshop.course import tracks
+from rrbot_workshop.course.cli import main
+from rrbot_workshop.course.grading import export_student_copy, reset_exercise
 from rrbot_workshop.exceptions import CourseError
-from rrbot_workshop.grading import export_student_copy, reset_exercise
 
 REPO = Path(__file__).resolve().parents[2]
 _GIT_ENV = {"GIT_AUTHOR_NAME": "t", "GIT_AUTHOR_EMAIL": "t@example.invalid", "GIT_COMMITTER_NAME": "t",
@@ -36,7 +36,7 @@ def course(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
     root = tmp_path / "course"
     (root / "tests" / "tasks").mkdir(parents=True)
     (root / "tests" / "tasks" / "test_task05_fake.py").write_text(
-        "from rrbot_workshop import tracks\nfrom rrbot_workshop.grading import graded\n\n"
+        "from rrbot_workshop.course import tracks\nfrom rrbot_workshop.course.grading import graded\n\n"
         "@graded(points=2, hint='write 42')\ndef test_answer():\n"
         "    assert (tracks.task_dir(5) / 'answer.txt').read_text().strip() == '42'\n"
     )
@@ -219,14 +219,14 @@ def test_student_copy_of_the_real_course_still_grades(tmp_path: Path) -> None:
     """Export this repository, then grade task 1 inside the copy, on the exercises track, with the copy's code."""
     target = tmp_path / "student"
     env = {k: v for k, v in os.environ.items() if not k.startswith("RRBOT_WORKSHOP_")}
-    subprocess.run([sys.executable, "-m", "rrbot_workshop.cli", "export", "--student", str(target)],
+    subprocess.run([sys.executable, "-m", "rrbot_workshop.course.cli", "export", "--student", str(target)],
                    cwd=REPO, env=env, check=True, capture_output=True)
-    assert not (target / "solutions").exists() and (target / "rrbot_workshop" / "cli.py").is_file()
-    result = subprocess.run([sys.executable, "-m", "rrbot_workshop.cli", "grade", "1", "--json"],
+    assert not (target / "solutions").exists() and (target / "rrbot_workshop" / "course" / "cli.py").is_file()
+    result = subprocess.run([sys.executable, "-m", "rrbot_workshop.course.cli", "grade", "1", "--json"],
                             cwd=target, env=env, capture_output=True, text=True, check=False)
     assert result.returncode == 0, result.stderr
     data = json.loads(result.stdout)
     assert data["task"] == 1 and 0 < data["max_score"] and data["score"] < data["max_score"]
-    missing = subprocess.run([sys.executable, "-m", "rrbot_workshop.cli", "grade", "1", "--track", "solutions"],
+    missing = subprocess.run([sys.executable, "-m", "rrbot_workshop.course.cli", "grade", "1", "--track", "solutions"],
                              cwd=target, env=env, capture_output=True, text=True, check=False)
     assert missing.returncode == 2 and "no 'solutions/' folder" in missing.stderr

@@ -6,7 +6,7 @@ import logging
 
 import pytest
 
-from rrbot_workshop.clock import SimClock, WallClock, make_clock, rate_due
+from rrbot_workshop.middleware.clock import SimClock, WallClock, make_clock, rate_due
 
 
 def test_sim_clock_advances_exactly_one_period_per_tick() -> None:

@@ -10,7 +10,7 @@ import math
 
 import pytest
 
-from rrbot_workshop.control_toolbox import Gains, Pid
+from rrbot_workshop.control_toolbox.pid import Gains, Pid
 from rrbot_workshop.exceptions import ParameterError
 
 

@@ -8,7 +8,7 @@ import pytest
 from core_helpers import TestSystem, load_configure, make_cm, make_info
 
 from rrbot_workshop.exceptions import ControllerError, ControllerNotFound, HardwareError
-from rrbot_workshop.lifecycle import ReturnType, State
+from rrbot_workshop.middleware.lifecycle import ReturnType, State
 
 J1 = {"command_interfaces": ["joint1/position"], "state_interfaces": ["joint1/position"]}
 J2 = {"command_interfaces": ["joint2/position"]}
@@ -329,7 +329,7 @@ def test_shutdown_unloads_everything() -> None:
 
 def test_non_divisor_rate_uses_integer_division_like_ros2_control() -> None:
     """30 Hz on a 200 Hz loop: 200 // round(200 / 30) = 200 // 7 = 28 Hz (not 29)."""
-    from rrbot_workshop.controllers.base import _effective_rate
+    from rrbot_workshop.controller_interface.base import _effective_rate
 
     assert _effective_rate(30, 200) == 28
     assert _effective_rate(0, 200) == 200

@@ -8,8 +8,8 @@ from pathlib import Path
 import pytest
 
 import rrbot_workshop as rw
-from rrbot_workshop.controller_spec import ControllerState, HardwareComponentState, HardwareInterface
-from rrbot_workshop.lifecycle import State
+from rrbot_workshop.controller_manager.spec import ControllerState, HardwareComponentState, HardwareInterface
+from rrbot_workshop.middleware.lifecycle import State
 from rrbot_workshop.viz.diagrams import architecture, chain_ranks, controller_chains, lifecycle_states
 from rrbot_workshop.viz.snapshot import take_snapshot
 from rrbot_workshop.viz.svg import SvgDiagram

@@ -10,7 +10,7 @@ import pytest
 from rrbot_workshop.controllers.diff_drive import DiffDriveController
 from rrbot_workshop.controllers.odometry import Odometry, SpeedLimiter
 from rrbot_workshop.exceptions import ParameterError
-from rrbot_workshop.lifecycle import ReturnType, State
+from rrbot_workshop.middleware.lifecycle import ReturnType, State
 from rrbot_workshop.msgs import Header, TwistStamped
 from rrbot_workshop.testing import ControllerHarness
 

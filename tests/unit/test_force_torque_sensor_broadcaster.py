@@ -7,10 +7,10 @@ import math
 
 import pytest
 
-from rrbot_workshop import plugins
 from rrbot_workshop.controllers.force_torque_sensor_broadcaster import ForceTorqueSensorBroadcaster
 from rrbot_workshop.exceptions import ParameterError
-from rrbot_workshop.lifecycle import State
+from rrbot_workshop.middleware import plugins
+from rrbot_workshop.middleware.lifecycle import State
 from rrbot_workshop.msgs import WrenchStamped
 from rrbot_workshop.testing import ControllerHarness
 

@@ -7,7 +7,6 @@ import math
 
 import pytest
 
-from rrbot_workshop import plugins
 from rrbot_workshop.controllers.forward_command import (
     ForwardCommandController,
     JointGroupEffortController,
@@ -16,7 +15,8 @@ from rrbot_workshop.controllers.forward_command import (
     MultiInterfaceForwardCommandController,
 )
 from rrbot_workshop.exceptions import ParameterError
-from rrbot_workshop.lifecycle import ReturnType, State
+from rrbot_workshop.middleware import plugins
+from rrbot_workshop.middleware.lifecycle import ReturnType, State
 from rrbot_workshop.msgs import Float64MultiArray
 from rrbot_workshop.testing import ControllerHarness
 

@@ -12,12 +12,12 @@ from collections.abc import Iterable, Sequence
 
 import pytest
 
-from rrbot_workshop import plugins
 from rrbot_workshop.description.info import ComponentInfo, HardwareInfo, InterfaceInfo, MimicJoint
-from rrbot_workshop.handles import Handle
-from rrbot_workshop.hardware.component import HardwareComponent
 from rrbot_workshop.hardware.mock import GenericSystem
-from rrbot_workshop.lifecycle import ReturnType, State
+from rrbot_workshop.hardware_interface.handles import Handle
+from rrbot_workshop.hardware_interface.hardware_component import HardwareComponent
+from rrbot_workshop.middleware import plugins
+from rrbot_workshop.middleware.lifecycle import ReturnType, State
 
 TIME = 0.0
 PERIOD = 0.1

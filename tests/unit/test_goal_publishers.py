@@ -6,16 +6,16 @@ from pathlib import Path
 
 import pytest
 
-from rrbot_workshop.exceptions import ParameterError
-from rrbot_workshop.goal_publishers import (
+from rrbot_workshop.controllers.goal_publishers import (
     DEFAULT_GOALS,
     ForwardCommandGoalPublisher,
     JointTrajectoryGoalPublisher,
     default_config_path,
     load_goal_publishers,
 )
+from rrbot_workshop.exceptions import ParameterError
+from rrbot_workshop.middleware.topics import TopicBus
 from rrbot_workshop.msgs import Float64MultiArray, JointTrajectory
-from rrbot_workshop.topics import TopicBus
 
 
 def test_defaults_are_the_workshop_numbers() -> None:

@@ -6,10 +6,10 @@ import logging
 
 import pytest
 
-from rrbot_workshop import plugins
 from rrbot_workshop.controllers.gpio_command import GpioCommandController, urdf_gpio_state_interfaces
 from rrbot_workshop.exceptions import ParameterError
-from rrbot_workshop.lifecycle import State
+from rrbot_workshop.middleware import plugins
+from rrbot_workshop.middleware.lifecycle import State
 from rrbot_workshop.msgs import DynamicInterfaceGroupValues, InterfaceValue
 from rrbot_workshop.testing import ControllerHarness
 

@@ -11,8 +11,8 @@ from pathlib import Path
 
 import pytest
 
-from rrbot_workshop import tracks
-from rrbot_workshop.grading import Rubric, grade
+from rrbot_workshop.course import tracks
+from rrbot_workshop.course.grading import Rubric, grade
 
 HAS_SOLUTIONS = (tracks.course_root() / "solutions").is_dir()
 pytestmark = pytest.mark.skipif(not HAS_SOLUTIONS, reason="this copy of the course has no solutions/")

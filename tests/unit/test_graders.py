@@ -12,8 +12,8 @@ from pathlib import Path
 
 import pytest
 
-from rrbot_workshop import tracks
-from rrbot_workshop.grading import Rubric, grade, graded_tasks
+from rrbot_workshop.course import tracks
+from rrbot_workshop.course.grading import Rubric, grade, graded_tasks
 
 GRADED = graded_tasks()
 HAS_SOLUTIONS = (tracks.course_root() / "solutions").is_dir()

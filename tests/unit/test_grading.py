@@ -7,15 +7,15 @@ from pathlib import Path
 
 import pytest
 
-from rrbot_workshop import tracks
+from rrbot_workshop.course import tracks
+from rrbot_workshop.course.grading import CheckResult, Rubric, check, grade, graded, graded_tasks, grader_path
+from rrbot_workshop.course.grading.rubric import DEFAULT_POINTS, check_spec
 from rrbot_workshop.exceptions import CourseError, GradingError
-from rrbot_workshop.grading import CheckResult, Rubric, check, grade, graded, graded_tasks, grader_path
-from rrbot_workshop.grading.rubric import DEFAULT_POINTS, check_spec
 
 _GRADER = '''
 import pytest
-from rrbot_workshop import tracks
-from rrbot_workshop.grading import graded
+from rrbot_workshop.course import tracks
+from rrbot_workshop.course.grading import graded
 
 
 @pytest.fixture
@@ -257,8 +257,8 @@ def test_real_course_has_a_task01_grader() -> None:
 
 def test_failure_reason_keeps_the_reasons_listed_after_a_colon() -> None:
     """A SwitchError's reasons (listed under its first line) reach the rubric's 'why' line."""
+    from rrbot_workshop.course.grading.plugin import _first_line
     from rrbot_workshop.exceptions import SwitchError
-    from rrbot_workshop.grading.plugin import _first_line
 
     text = _first_line(str(SwitchError(["'a' claims joint1/position", "'b' claims joint1/position"])))
     assert "'a' claims joint1/position" in text and "'b' claims joint1/position" in text

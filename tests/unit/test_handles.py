@@ -8,7 +8,7 @@ import math
 import pytest
 
 from rrbot_workshop.exceptions import DescriptionError
-from rrbot_workshop.handles import (
+from rrbot_workshop.hardware_interface.handles import (
     SUPPORTED_DATA_TYPES,
     CommandInterface,
     Handle,

@@ -12,10 +12,10 @@ import pytest
 
 from rrbot_workshop.description.info import ComponentInfo, HardwareInfo, InterfaceInfo
 from rrbot_workshop.exceptions import HardwareError
-from rrbot_workshop.handles import CommandInterface, StateInterface
-from rrbot_workshop.hardware.base import SensorInterface, SystemInterface
-from rrbot_workshop.hardware.component import HardwareComponent, HardwareComponentInfo
-from rrbot_workshop.lifecycle import CallbackReturn, ReturnType, State
+from rrbot_workshop.hardware_interface.component_interface import SensorInterface, SystemInterface
+from rrbot_workshop.hardware_interface.handles import CommandInterface, StateInterface
+from rrbot_workshop.hardware_interface.hardware_component import HardwareComponent, HardwareComponentInfo
+from rrbot_workshop.middleware.lifecycle import CallbackReturn, ReturnType, State
 
 S, F, E = CallbackReturn.SUCCESS, CallbackReturn.FAILURE, CallbackReturn.ERROR
 UNKNOWN, UNCONFIGURED, INACTIVE, ACTIVE, FINALIZED = (
@@ -300,7 +300,7 @@ def test_exception_in_read_or_write_is_logged_with_traceback_and_is_error(
     comp = component_in(ACTIVE)
     boom = ZeroDivisionError("division by zero in learner code")
     scripted(comp).results[method] = boom
-    with caplog.at_level(logging.ERROR, logger="rrbot_workshop.hardware.component"):
+    with caplog.at_level(logging.ERROR, logger="rrbot_workshop.hardware_interface.hardware_component"):
         assert getattr(comp, method)(0.0, 0.01) is ReturnType.ERROR
     assert comp.get_lifecycle_state() is FINALIZED and comp.last_error is boom
     records = [r for r in caplog.records if r.exc_info is not None]

@@ -4,11 +4,11 @@ from __future__ import annotations
 
 import math
 
-from rrbot_workshop import plugins
-from rrbot_workshop.controllers.base import InterfaceConfigurationType
+from rrbot_workshop.controller_interface.base import InterfaceConfigurationType
 from rrbot_workshop.controllers.joint_state_broadcaster import JointStateBroadcaster, urdf_movable_joints
-from rrbot_workshop.handles import StateInterface
-from rrbot_workshop.lifecycle import CallbackReturn, State
+from rrbot_workshop.hardware_interface.handles import StateInterface
+from rrbot_workshop.middleware import plugins
+from rrbot_workshop.middleware.lifecycle import CallbackReturn, State
 from rrbot_workshop.msgs import DynamicJointState, JointState
 from rrbot_workshop.testing import ControllerHarness
 

@@ -11,7 +11,7 @@ from rrbot_workshop.controllers.follow_joint_trajectory import FollowJointTrajec
 from rrbot_workshop.controllers.follow_joint_trajectory import GoalStatus
 from rrbot_workshop.controllers.joint_trajectory import JointTrajectoryController
 from rrbot_workshop.exceptions import ParameterError
-from rrbot_workshop.lifecycle import State
+from rrbot_workshop.middleware.lifecycle import State
 from rrbot_workshop.msgs import (
     Header,
     JointTolerance,

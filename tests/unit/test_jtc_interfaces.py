@@ -7,7 +7,12 @@ import math
 import pytest
 
 from rrbot_workshop.controllers.jtc_interfaces import JointInterfaces
-from rrbot_workshop.handles import CommandInterface, LoanedCommandInterface, LoanedStateInterface, StateInterface
+from rrbot_workshop.hardware_interface.handles import (
+    CommandInterface,
+    LoanedCommandInterface,
+    LoanedStateInterface,
+    StateInterface,
+)
 
 
 def _loans(values: dict[str, float], cls: type) -> list:

@@ -7,7 +7,7 @@ from collections.abc import Iterator
 import pytest
 
 import rrbot_workshop as rw
-from rrbot_workshop.goal_publishers import DEFAULT_GOALS, JointTrajectoryGoalPublisher
+from rrbot_workshop.controllers.goal_publishers import DEFAULT_GOALS, JointTrajectoryGoalPublisher
 
 CHAIN = ["joint_state_broadcaster", "pid_controller_joint1", "pid_controller_joint2", "joint_trajectory_controller"]
 

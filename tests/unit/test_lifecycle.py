@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from rrbot_workshop.lifecycle import TRANSITION_SOURCES, CallbackReturn, ReturnType, State
+from rrbot_workshop.middleware.lifecycle import TRANSITION_SOURCES, CallbackReturn, ReturnType, State
 
 
 def test_states_carry_the_ros_labels_and_ids() -> None:
@@ -46,8 +46,8 @@ def test_transition_sources_follow_the_managed_node_state_machine() -> None:
 
 def test_hardware_component_uses_the_same_transition_sources() -> None:
     """The wrapper's allowed states agree with the shared table (error() aside, which is hardware-only)."""
-    from rrbot_workshop.hardware.base import SystemInterface
-    from rrbot_workshop.hardware.component import HardwareComponent
+    from rrbot_workshop.hardware_interface.component_interface import SystemInterface
+    from rrbot_workshop.hardware_interface.hardware_component import HardwareComponent
 
     for transition, sources in TRANSITION_SOURCES.items():
         for state in (State.UNCONFIGURED, State.INACTIVE, State.ACTIVE):

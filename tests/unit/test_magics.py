@@ -6,8 +6,8 @@ import core_helpers  # noqa: F401  (registers the test plugins)
 import pytest
 
 from rrbot_workshop.bringup import bringup
+from rrbot_workshop.course.magics import control, load_ipython_extension, message_from_dict, message_to_yaml, topic
 from rrbot_workshop.exceptions import MessageError
-from rrbot_workshop.magics import control, load_ipython_extension, message_from_dict, message_to_yaml, topic
 from rrbot_workshop.msgs import Float64MultiArray, JointTrajectory
 
 URDF = """<robot name="magic">

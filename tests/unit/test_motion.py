@@ -6,7 +6,7 @@ import pytest
 
 from rrbot_workshop.controllers.joint_trajectory import JointTrajectoryController
 from rrbot_workshop.exceptions import ParameterError
-from rrbot_workshop.lifecycle import State
+from rrbot_workshop.middleware.lifecycle import State
 from rrbot_workshop.motion import jerk_limited_trajectory
 from rrbot_workshop.testing import ControllerHarness
 

@@ -9,7 +9,7 @@ import pytest
 
 from rrbot_workshop.description.info import ComponentInfo, HardwareInfo, InterfaceInfo
 from rrbot_workshop.hardware.mujoco_system import MujocoSystem
-from rrbot_workshop.lifecycle import CallbackReturn, ReturnType, State
+from rrbot_workshop.middleware.lifecycle import CallbackReturn, ReturnType, State
 
 _INERTIA = '<inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/>'
 

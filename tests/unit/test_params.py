@@ -8,7 +8,13 @@ from pathlib import Path
 import pytest
 
 from rrbot_workshop.exceptions import ParameterError
-from rrbot_workshop.params import ParameterSchema, ParamListener, flatten, load_controllers_yaml, register_validator
+from rrbot_workshop.middleware.params import (
+    ParameterSchema,
+    ParamListener,
+    flatten,
+    load_controllers_yaml,
+    register_validator,
+)
 
 YAML = """
 controller_manager:

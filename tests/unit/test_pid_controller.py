@@ -7,11 +7,11 @@ import math
 
 import pytest
 
-from rrbot_workshop import plugins
-from rrbot_workshop.controllers.base import InterfaceConfigurationType
+from rrbot_workshop.controller_interface.base import InterfaceConfigurationType
 from rrbot_workshop.controllers.pid import PidController, shortest_angular_distance
 from rrbot_workshop.exceptions import ParameterError
-from rrbot_workshop.lifecycle import State
+from rrbot_workshop.middleware import plugins
+from rrbot_workshop.middleware.lifecycle import State
 from rrbot_workshop.msgs import MultiDOFCommand, MultiDOFStateStamped
 from rrbot_workshop.testing import ControllerHarness
 

@@ -5,10 +5,10 @@ from __future__ import annotations
 import pytest
 from core_helpers import TestSystem, load_configure, make_cm, make_info
 
-from rrbot_workshop import plugins
 from rrbot_workshop.exceptions import ControllerError, HardwareError
-from rrbot_workshop.lifecycle import CallbackReturn, State
-from rrbot_workshop.resource_manager import ResourceManager
+from rrbot_workshop.hardware_interface.resource_manager import ResourceManager
+from rrbot_workshop.middleware import plugins
+from rrbot_workshop.middleware.lifecycle import CallbackReturn, State
 
 
 class FailsInit(TestSystem):

@@ -9,9 +9,9 @@ import pytest
 from core_helpers import TestSensor, TestSystem, make_info
 
 from rrbot_workshop.exceptions import ControllerError, HardwareError, InterfaceAlreadyClaimed, InterfaceNotFound
-from rrbot_workshop.handles import CommandInterface
-from rrbot_workshop.lifecycle import ReturnType, State
-from rrbot_workshop.resource_manager import ResourceManager
+from rrbot_workshop.hardware_interface.handles import CommandInterface
+from rrbot_workshop.hardware_interface.resource_manager import ResourceManager
+from rrbot_workshop.middleware.lifecycle import ReturnType, State
 
 JOINTS = {"joint1": (["position"], ["position", "velocity"]), "joint2": (["position"], ["position"])}
 

@@ -9,7 +9,7 @@ import pytest
 from core_helpers import TestSystem, load_configure, make_cm, make_info
 
 from rrbot_workshop.exceptions import ControllerError, SwitchError
-from rrbot_workshop.lifecycle import CallbackReturn, ReturnType, State
+from rrbot_workshop.middleware.lifecycle import CallbackReturn, ReturnType, State
 
 J1 = {"command_interfaces": ["joint1/position"]}
 J2 = {"command_interfaces": ["joint2/position"]}

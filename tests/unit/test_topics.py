@@ -7,8 +7,8 @@ import logging
 import pytest
 
 from rrbot_workshop.exceptions import MessageError
+from rrbot_workshop.middleware.topics import Node, TopicBus, resolve_name
 from rrbot_workshop.msgs import Float64, Float64MultiArray, SetBoolRequest, SetBoolResponse, String
-from rrbot_workshop.topics import Node, TopicBus, resolve_name
 
 
 @pytest.mark.parametrize(
@@ -128,8 +128,8 @@ def test_every_message_class_has_its_ros_type_name() -> None:
 
 def test_topic_list_reports_ros_type_names() -> None:
     """topic_names_and_types gives full ROS names, as `ros2 topic list -t` prints them."""
+    from rrbot_workshop.middleware.topics import TopicBus
     from rrbot_workshop.msgs import JointState
-    from rrbot_workshop.topics import TopicBus
 
     bus = TopicBus()
     bus.create_publisher(JointState, "/joint_states")

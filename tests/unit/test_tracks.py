@@ -8,8 +8,9 @@ from pathlib import Path
 
 import pytest
 
-from rrbot_workshop import plugins, tracks
+from rrbot_workshop.course import tracks
 from rrbot_workshop.exceptions import ControllerError, CourseError, HardwareError
+from rrbot_workshop.middleware import plugins
 
 _CONTROLLER = '''
 class DisplacementController:
@@ -40,7 +41,7 @@ def course(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
     return root
 
 
-def _plugin(kind: str = "controller", reference: str = "rrbot_workshop.lifecycle:State") -> tracks.TrackPlugin:
+def _plugin(kind: str = "controller", reference: str = "rrbot_workshop.middleware.lifecycle:State") -> tracks.TrackPlugin:
     return tracks.TrackPlugin(kind, "test/Thing", 8, "displacement_controller.py", "DisplacementController",
                               reference)
 
@@ -162,9 +163,9 @@ def test_unfinished_learner_file_falls_back_to_reference_with_warning(
 ) -> None:
     path = course / "exercises" / "task08_write_controller" / "controlko_controllers" / "displacement_controller.py"
     path.write_text("class DisplacementController(:\n")
-    from rrbot_workshop.lifecycle import State
+    from rrbot_workshop.middleware.lifecycle import State
 
-    with caplog.at_level(logging.WARNING, logger="rrbot_workshop.tracks"):
+    with caplog.at_level(logging.WARNING, logger="rrbot_workshop.course.tracks"):
         assert tracks.load_track_class(_plugin()) is State
     assert "SyntaxError" in caplog.text and "reference implementation" in caplog.text
 
@@ -172,7 +173,7 @@ def test_unfinished_learner_file_falls_back_to_reference_with_warning(
 def test_missing_class_falls_back_to_reference(course: Path) -> None:
     path = course / "exercises" / "task08_write_controller" / "controlko_controllers" / "displacement_controller.py"
     path.write_text("X = 1\n")
-    from rrbot_workshop.lifecycle import State
+    from rrbot_workshop.middleware.lifecycle import State
 
     assert tracks.load_track_class(_plugin()) is State
 
@@ -188,7 +189,7 @@ def test_broken_learner_file_and_no_reference_raises_controller_error(course: Pa
     path = course / "exercises" / "task08_write_controller" / "controlko_controllers" / "displacement_controller.py"
     path.write_text("raise RuntimeError('unfinished')\n")
     with pytest.raises(ControllerError, match="unfinished.*no reference implementation"):
-        tracks.load_track_class(_plugin(reference="rrbot_workshop.lifecycle:NoSuchClass"))
+        tracks.load_track_class(_plugin(reference="rrbot_workshop.middleware.lifecycle:NoSuchClass"))
 
 
 def test_original_plugin_names_are_registered() -> None:

@@ -16,8 +16,8 @@ import numpy as np
 import pytest
 
 from rrbot_workshop.exceptions import DescriptionError
+from rrbot_workshop.middleware.topics import TopicBus
 from rrbot_workshop.msgs import Header, JointState
-from rrbot_workshop.topics import TopicBus
 from rrbot_workshop.viz import meshcat_server
 from rrbot_workshop.viz.meshcat_server import MeshcatServer, live_servers
 from rrbot_workshop.viz.viewer import Viewer

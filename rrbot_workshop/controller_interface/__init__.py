@@ -1,0 +1,15 @@
+"""ros2_control's controller_interface: the base classes of every controller, chainable or not."""
+
+from rrbot_workshop.controller_interface.base import (
+    ChainableControllerInterface,
+    ControllerInterface,
+    InterfaceConfiguration,
+    InterfaceConfigurationType,
+)
+
+__all__ = [
+    "ControllerInterface",
+    "ChainableControllerInterface",
+    "InterfaceConfiguration",
+    "InterfaceConfigurationType",
+]

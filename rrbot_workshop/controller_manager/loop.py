@@ -1,0 +1,104 @@
+"""The controllers' part of a control cycle: who updates, with which period, and what a failure stops.
+
+Active controllers update in chain order. A controller with an ``update_rate`` below the manager's
+updates only on the cycles :func:`~rrbot_workshop.middleware.clock.rate_due` picks, and its period is then the
+time since its last update. As with ros2_control's ``handle_exceptions``, a controller whose
+``update`` raises or does not return OK is deactivated with its chain group, the traceback is
+logged, and its ``fallback_controllers`` are activated in one strict switch. Hardware that fails in
+``read`` or ``write`` deactivates the active controllers holding its interfaces, with their chain groups.
+"""
+
+from __future__ import annotations
+
+import logging
+import traceback
+from typing import TYPE_CHECKING
+
+from rrbot_workshop.controller_manager.claims import deactivate_controller
+from rrbot_workshop.exceptions import ControllerError, SwitchError
+from rrbot_workshop.middleware.clock import rate_due
+from rrbot_workshop.middleware.lifecycle import ReturnType, State
+
+if TYPE_CHECKING:
+    from rrbot_workshop.controller_manager.manager import ControllerManager
+
+__all__ = ["update_controllers", "controllers_failed", "hardware_failed"]
+
+# The controller manager's messages keep the logger name they had before it was split into modules.
+_log = logging.getLogger("rrbot_workshop.controller_manager.manager")
+
+
+def update_controllers(cm: ControllerManager, time: float, period: float) -> None:
+    """Update each active controller of ``cm`` that is due, in chain order, then handle failures.
+
+    Args:
+        cm: The controller manager.
+        time: Current time in [s].
+        period: Manager period in [s].
+    """
+    failed: list[str] = []
+    controllers = cm.controllers
+    for name in cm.update_order():
+        spec = controllers[name]
+        ctrl = spec.controller
+        if ctrl._state is not State.ACTIVE:
+            continue
+        rate = ctrl._update_rate or cm.update_rate
+        last = spec.last_update_time
+        if rate < cm.update_rate and not rate_due(last, time, rate, cm.update_rate):
+            continue
+        ctrl_period = period if last is None or rate >= cm.update_rate else time - last
+        spec.last_update_time = time
+        try:
+            result = ctrl.update(time, ctrl_period)
+        except Exception:
+            if not cm.handle_exceptions:
+                raise
+            _log.error("update of controller '%s' raised:\n%s", name, traceback.format_exc())
+            result = ReturnType.ERROR
+        if result is not ReturnType.OK:
+            if result is not ReturnType.ERROR:
+                _log.error("update of controller '%s' returned %r", name, result)
+            failed.append(name)
+    if failed:
+        controllers_failed(cm, failed)
+
+
+def controllers_failed(cm: ControllerManager, failed: list[str]) -> None:
+    """Deactivate ``failed`` controllers with their chain group, then activate their fallbacks (strict)."""
+    group = cm.chain_group(failed)
+    _log.error("controller(s) %s failed in update; deactivating %s", failed, group)
+    for name in group:
+        deactivate_controller(cm.resource_manager, cm.controllers[name])
+    fallbacks = [fb for n in failed for fb in cm.controllers[n].fallback_controllers]
+    fallbacks = [fb for i, fb in enumerate(fallbacks) if fb not in fallbacks[:i]]
+    if fallbacks:
+        try:
+            cm.switch_controllers(activate=fallbacks, strictness="strict")
+            _log.warning("activated fallback controllers %s", fallbacks)
+        except (SwitchError, ControllerError) as exc:
+            _log.error("could not activate fallback controllers %s: %s", fallbacks, exc)
+
+
+def hardware_failed(cm: ControllerManager, hardware: list[str], where: str) -> None:
+    """Deactivate the active controllers holding interfaces of failed ``hardware``, with their chain groups.
+
+    Args:
+        cm: The controller manager.
+        hardware: Names of the hardware components that failed.
+        where: ``"read"`` or ``"write"``, for the log.
+    """
+    rm = cm.resource_manager
+    users = []
+    for name in cm.update_order():
+        ctrl = cm.controllers[name].controller
+        if ctrl.get_lifecycle_state() is not State.ACTIVE:
+            continue
+        loans = [*ctrl.command_interfaces, *ctrl.state_interfaces]
+        if any(rm.hardware_of_interface(loan.name) in hardware for loan in loans):
+            users.append(name)
+    group = cm.chain_group(users)
+    if group:
+        _log.error("hardware %s failed in %s; deactivating controllers %s", hardware, where, group)
+    for name in group:
+        deactivate_controller(rm, cm.controllers[name])

@@ -1,0 +1,330 @@
+"""The controller manager: loads controllers, switches them, and runs the control loop.
+
+One cycle (:meth:`ControllerManager.update`) is: deliver queued topic messages (the non-real-time
+side), ``read`` all hardware, ``update`` every active controller in chain order (preceding controllers
+first, each at its own rate), ``write`` all hardware, then the cycle hooks. Controllers are loaded by
+type string through :mod:`rrbot_workshop.middleware.plugins` with parameters from a
+:class:`~rrbot_workshop.middleware.params.ControllersConfig`; switching follows :mod:`rrbot_workshop.controller_manager.switch`.
+
+As with ros2_control's ``handle_exceptions`` (default true), a controller whose ``update`` raises or
+returns ERROR is deactivated together with the controllers chained to it, its traceback is logged,
+its ``fallback_controllers`` are activated and the loop goes on. Hardware that fails in ``read`` or
+``write`` takes the controllers that use it down the same way.
+
+This class keeps the registry of loaded controllers and their update order, and offers the public
+API; the steps live next to it: :mod:`~rrbot_workshop.controller_manager.lifecycle` (load, configure,
+cleanup, shutdown), :mod:`~rrbot_workshop.controller_manager.claims` (which interfaces a controller needs;
+claiming them on activation), :mod:`~rrbot_workshop.controller_manager.chains` (update order and chain
+groups), :mod:`~rrbot_workshop.controller_manager.loop` (rates and failures in a cycle),
+:mod:`~rrbot_workshop.controller_manager.introspection` and :mod:`~rrbot_workshop.controller_manager.services`.
+"""
+
+from __future__ import annotations
+
+import logging
+import traceback
+from collections.abc import Callable, Iterable, Mapping
+from types import MappingProxyType
+
+from rrbot_workshop.controller_interface.base import ControllerInterface
+from rrbot_workshop.controller_manager import introspection
+from rrbot_workshop.controller_manager import lifecycle as controller_lifecycle
+from rrbot_workshop.controller_manager import loop as controller_loop
+from rrbot_workshop.controller_manager.chains import chain_group, update_order
+from rrbot_workshop.controller_manager.claims import deactivate_controller, required_interfaces
+from rrbot_workshop.controller_manager.services import register_services
+from rrbot_workshop.controller_manager.spec import (
+    ControllerSpec,
+    ControllerState,
+    HardwareComponentState,
+    HardwareInterfaces,
+    SwitchResult,
+)
+from rrbot_workshop.controller_manager.switch import switch_controllers as _switch
+from rrbot_workshop.exceptions import ControllerError, ControllerNotFound, HardwareError, LifecycleError
+from rrbot_workshop.hardware_interface.resource_manager import ResourceManager
+from rrbot_workshop.middleware.clock import Clock, SimClock
+from rrbot_workshop.middleware.lifecycle import State
+from rrbot_workshop.middleware.params import ControllersConfig
+from rrbot_workshop.middleware.topics import TopicBus
+
+__all__ = ["ControllerManager"]
+
+_log = logging.getLogger(__name__)
+
+CycleHook = Callable[[float, float], None]
+
+
+class ControllerManager:
+    """Controllers, their lifecycles and chain order, and the control loop.
+
+    Args:
+        resource_manager: Owner of the hardware and interface storage.
+        bus: Topic bus for controllers' topics and the manager's services (a new one if None).
+        update_rate: Loop rate in [Hz]; defaults to ``params.update_rate`` (100 without params).
+        robot_description: URDF text handed to controllers.
+        params: The controllers YAML content (types and parameters).
+        clock: Time source for controllers' nodes; a :class:`SimClock` at ``update_rate`` if None.
+        handle_exceptions: Catch exceptions from controllers' ``update`` (ros2_control's parameter, default true).
+    """
+
+    def __init__(
+        self,
+        resource_manager: ResourceManager,
+        bus: TopicBus | None = None,
+        update_rate: int | None = None,
+        robot_description: str = "",
+        params: ControllersConfig | None = None,
+        clock: Clock | None = None,
+        handle_exceptions: bool = True,
+    ) -> None:
+        self.params = params if params is not None else ControllersConfig()
+        self.update_rate = int(update_rate if update_rate is not None else self.params.update_rate)
+        self.resource_manager = resource_manager
+        self.bus = bus if bus is not None else TopicBus()
+        self.robot_description = robot_description
+        self.clock = clock if clock is not None else SimClock(self.update_rate)
+        self.handle_exceptions = bool(self.params.manager_parameters.get("handle_exceptions", handle_exceptions))
+        self._controllers: dict[str, ControllerSpec] = {}
+        self._order: list[str] = []
+        self._hooks: list[CycleHook] = []
+        register_services(self)
+
+    # ================================================================= lookup
+    @property
+    def controllers(self) -> Mapping[str, ControllerSpec]:
+        """Loaded controllers by name (read-only view), in load order."""
+        return MappingProxyType(self._controllers)
+
+    def get_update_rate(self) -> int:
+        """Loop rate in [Hz]."""
+        return self.update_rate
+
+    def update_order(self) -> list[str]:
+        """Controller names in update order (preceding controllers first)."""
+        return list(self._order)
+
+    def _spec(self, name: str) -> ControllerSpec:
+        try:
+            return self._controllers[name]
+        except KeyError:
+            raise ControllerNotFound(name, self._controllers) from None
+
+    def get_controller(self, name: str) -> ControllerInterface:
+        """The controller instance called ``name``.
+
+        Raises:
+            ControllerNotFound: If no such controller is loaded.
+        """
+        return self._spec(name).controller
+
+    def command_interface_names(self, spec: ControllerSpec) -> list[str]:
+        """Command interfaces a configured controller asks for (resolved against the storage)."""
+        return required_interfaces(self.resource_manager, spec, "command")
+
+    def state_interface_names(self, spec: ControllerSpec) -> list[str]:
+        """State interfaces a configured controller asks for (resolved against the storage)."""
+        return required_interfaces(self.resource_manager, spec, "state")
+
+    # ================================================================= lifecycle (steps in controller_lifecycle)
+    def load_controller(self, name: str, type: str | None = None) -> ControllerInterface:  # noqa: A002
+        """Create controller ``name`` of plugin ``type`` (from the controllers YAML if None) and run ``on_init``.
+
+        Raises:
+            ControllerError: If the name is taken, the type is unknown or ``on_init`` fails.
+            ControllerNotFound: If no type is given and the YAML declares none for ``name``.
+            ParameterError: If the parameters do not match the controller's declarations.
+        """
+        spec = controller_lifecycle.create(self, name, type)
+        self._controllers[name] = spec
+        self._order.append(name)
+        _log.info("loaded controller '%s' (%s)", name, spec.type)
+        return spec.controller
+
+    def configure_controller(self, name: str) -> None:
+        """Configure ``name`` (cleaning it up first if inactive); export a chainable controller's
+        interfaces into the resource manager and rebuild the update order.
+
+        Raises:
+            ControllerNotFound: If it is not loaded.
+            ControllerError: If it is active or finalized, ``on_configure`` fails, or its exports are invalid.
+            ParameterError: If its parameters fail validation.
+        """
+        spec = self._spec(name)
+        if spec.state is State.INACTIVE:
+            self.cleanup_controller(name)
+        controller_lifecycle.configure(self.resource_manager, spec)
+        self._order = update_order(self.resource_manager, self._controllers)
+
+    def cleanup_controller(self, name: str) -> None:
+        """inactive -> unconfigured; its exported interfaces are removed.
+
+        Raises:
+            ControllerNotFound: If it is not loaded.
+            ControllerError: If it is not inactive.
+        """
+        controller_lifecycle.cleanup(self.resource_manager, self._spec(name))
+        self._order = update_order(self.resource_manager, self._controllers)
+
+    def unload_controller(self, name: str) -> None:
+        """Clean up (if inactive), shut down and forget controller ``name``.
+
+        Raises:
+            ControllerNotFound: If it is not loaded.
+            ControllerError: If it is active.
+        """
+        spec = self._spec(name)
+        if spec.state is State.ACTIVE:
+            raise ControllerError(f"controller '{name}' is active and cannot be unloaded; deactivate it first")
+        if spec.state is State.INACTIVE:
+            self.cleanup_controller(name)
+        controller_lifecycle.shutdown(spec)
+        del self._controllers[name]
+        self._order.remove(name)
+
+    def set_controller_state(self, name: str, state: str | State) -> None:
+        """Bring a controller to ``"unconfigured"``, ``"inactive"`` or ``"active"`` (``ros2 control set_controller_state``).
+
+        Raises:
+            ControllerNotFound: If it is not loaded.
+            ControllerError: If the label is not a lifecycle state, or the transition is not possible from
+                its state (or fails).
+            SwitchError: If activation or deactivation is rejected.
+        """
+        controller_lifecycle.set_state(self, self._spec(name), state)
+
+    # ================================================================= switching
+    def switch_controllers(
+        self,
+        activate: Iterable[str] = (),
+        deactivate: Iterable[str] = (),
+        strictness: str | int = "best_effort",
+        activate_asap: bool = True,
+        timeout: float = 0.0,
+    ) -> SwitchResult:
+        """Activate and deactivate controllers in one step, with ros2_control's rules.
+
+        The switch runs at once, between two cycles: the loop is single-threaded here, so
+        ``activate_asap`` and ``timeout`` are accepted for fidelity and change nothing.
+
+        Args:
+            activate: Controllers to activate.
+            deactivate: Controllers to deactivate.
+            strictness: ``"best_effort"`` (Jazzy's default) drops requests that cannot be done;
+                ``"strict"`` rejects the whole switch. ``1``/``2`` (the service constants) work too.
+            activate_asap: Kept for fidelity.
+            timeout: Kept for fidelity, in [s].
+
+        Returns:
+            What was activated, deactivated and (best effort) skipped.
+
+        Raises:
+            SwitchError: If the switch is rejected; its ``reasons`` name the controllers and interfaces.
+            ControllerError: If ``strictness`` is not valid.
+        """
+        if isinstance(activate, str) or isinstance(deactivate, str):
+            raise ControllerError("activate and deactivate take lists of controller names, not a single string")
+        return _switch(self, activate, deactivate, strictness)
+
+    # ================================================================= the loop
+    def add_cycle_hook(self, fn: CycleHook) -> Callable[[], None]:
+        """Call ``fn(time, period)`` after every cycle (recorders, viewers). Returns a remover."""
+        self._hooks.append(fn)
+
+        def remove() -> None:
+            if fn in self._hooks:
+                self._hooks.remove(fn)
+
+        return remove
+
+    def read(self, time: float, period: float) -> None:
+        """Read all hardware; controllers using failed hardware are deactivated."""
+        status = self.resource_manager.read(time, period)
+        if not status.ok:
+            controller_loop.hardware_failed(self, status.failed_hardware_names, "read")
+
+    def write(self, time: float, period: float) -> None:
+        """Write all hardware; controllers using failed hardware are deactivated."""
+        status = self.resource_manager.write(time, period)
+        if not status.ok:
+            controller_loop.hardware_failed(self, status.failed_hardware_names, "write")
+
+    def update_controllers(self, time: float, period: float) -> None:
+        """Update each active controller that is due, in chain order.
+
+        Args:
+            time: Current time in [s].
+            period: Manager period in [s].
+        """
+        controller_loop.update_controllers(self, time, period)
+
+    def update(self, time: float, period: float) -> None:
+        """One control cycle: deliver topics, read, update controllers, write, hooks.
+
+        Args:
+            time: Time of this cycle in [s].
+            period: Time since the previous cycle in [s].
+        """
+        self.bus.deliver()
+        self.read(time, period)
+        self.update_controllers(time, period)
+        self.write(time, period)
+        for hook in list(self._hooks):
+            try:
+                hook(time, period)
+            except Exception:  # noqa: BLE001 - a plotting hook must not stop the robot
+                _log.error("cycle hook %r raised:\n%s", hook, traceback.format_exc())
+
+    def chain_group(self, names: Iterable[str]) -> list[str]:
+        """``names`` and every active controller chained to them (either direction), in update order."""
+        return chain_group(self.resource_manager, self._controllers, self._order, names)
+
+    # ================================================================= introspection
+    def list_controllers(self) -> list[ControllerState]:
+        """``ControllerState`` of each controller, in update order."""
+        return introspection.list_controllers(self)
+
+    def list_hardware_components(self) -> list[HardwareComponentState]:
+        """``HardwareComponentState`` of each hardware component."""
+        return introspection.list_hardware_components(self)
+
+    def list_hardware_interfaces(self) -> HardwareInterfaces:
+        """All command and state interfaces with availability and claims."""
+        return introspection.list_hardware_interfaces(self)
+
+    def list_controller_types(self) -> list[tuple[str, str]]:
+        """``(type, base_class)`` of every controller plugin."""
+        return introspection.list_controller_types()
+
+    def view_controller_chains(self) -> str:
+        """Graphviz DOT text of the controller chains."""
+        return introspection.view_controller_chains(self)
+
+    def set_hardware_component_state(self, name: str, state: str | State) -> bool:
+        """Drive hardware component ``name`` to ``state`` (``"unconfigured"``, ``"inactive"``, ``"active"``, ``"finalized"``).
+
+        As in Jazzy, controllers using the component are not touched: with the hardware inactive they
+        keep running but nothing is written; with it unconfigured their interfaces are unavailable.
+
+        Returns:
+            True if the component reached ``state``.
+
+        Raises:
+            HardwareError: If there is no such component or the state label is invalid.
+        """
+        try:
+            target = state if isinstance(state, State) else State.from_label(state)
+        except ValueError as exc:
+            raise HardwareError(f"hardware component '{name}': {exc}") from None
+        return self.resource_manager.set_component_state(name, target)
+
+    def shutdown(self) -> None:
+        """Deactivate every active controller (in update order) and unload them all."""
+        for name in [n for n in self._order if self._controllers[n].state is State.ACTIVE]:
+            deactivate_controller(self.resource_manager, self._controllers[name])
+        for name in reversed(list(self._order)):
+            try:
+                self.unload_controller(name)
+            except (ControllerError, LifecycleError) as exc:
+                _log.warning("unloading '%s' at shutdown: %s", name, exc)
+        self.bus.remove_owner("controller_manager")

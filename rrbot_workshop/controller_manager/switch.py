@@ -1,0 +1,245 @@
+"""``switch_controllers``: ros2_control's ``switch_controller`` rules, step by step.
+
+The steps follow ``controller_manager.cpp`` (Jazzy):
+
+1. unknown names: STRICT rejects, BEST_EFFORT drops them (rejects only if nothing known is left);
+2. followers of controllers being deactivated leave chained mode;
+3. each activation is checked (configured, not already active, every controller whose reference or
+   exported state interfaces it uses is active or activated in the same switch, fallbacks configured);
+   followers whose references it claims enter chained mode;
+4. each deactivation is checked (active; no preceding controller that needs it stays or becomes active);
+5. nothing left: done;
+6. active controllers whose chained mode changes are restarted;
+7. interface availability, checked whatever the strictness: every command interface exists, is
+   available, is not claimed by a controller that stays active, and is asked for by one controller only;
+8. the hardware is asked (``prepare_command_mode_switch``);
+9-10. the switch runs: hardware mode switch, deactivations, chained modes, activations (followers
+   first); under STRICT a failed activation rolls back the others activated here;
+11. the result is an error if a requested controller did not reach its state.
+
+Every rejection before step 10 leaves all states as they were. The caller gets a :class:`SwitchError`
+listing every reason, naming controllers and interfaces.
+
+This module holds the request and its planning (steps 1-8); the chaining checks of steps 3-4 are in
+:mod:`~rrbot_workshop.controller_manager.switch_chaining`, running and rolling back (steps 9-11) in
+:mod:`~rrbot_workshop.controller_manager.switch_execution`.
+"""
+
+from __future__ import annotations
+
+import logging
+from collections.abc import Iterable
+from typing import TYPE_CHECKING, Any
+
+from rrbot_workshop.controller_manager.spec import SwitchResult
+from rrbot_workshop.controller_manager.switch_chaining import check_activation, check_deactivation, followers
+from rrbot_workshop.controller_manager.switch_execution import execute
+from rrbot_workshop.exceptions import ControllerError, SwitchError
+from rrbot_workshop.middleware.lifecycle import State
+
+if TYPE_CHECKING:
+    from rrbot_workshop.controller_manager.manager import ControllerManager
+
+__all__ = ["STRICTNESS", "normalize_strictness", "switch_controllers"]
+
+_log = logging.getLogger(__name__)
+
+#: Accepted strictness values (``controller_manager_msgs/SwitchController``: 1 BEST_EFFORT, 2 STRICT,
+#: 3 AUTO and 4 FORCE_AUTO act as BEST_EFFORT in Jazzy).
+STRICTNESS = {"best_effort": "best_effort", "strict": "strict", "auto": "best_effort", "force_auto": "best_effort",
+              1: "best_effort", 2: "strict", 3: "best_effort", 4: "best_effort"}
+
+
+def normalize_strictness(strictness: str | int) -> str:
+    """``"strict"`` or ``"best_effort"`` from a name or the service's integer constant.
+
+    Raises:
+        ControllerError: If the value is not a known strictness.
+    """
+    key: Any = strictness.lower() if isinstance(strictness, str) else strictness
+    if key == 0:  # 0 = the manager's default, which is best_effort in Jazzy (strict on master)
+        return "best_effort"
+    try:
+        return STRICTNESS[key]
+    except KeyError:
+        raise ControllerError(
+            f"unknown strictness {strictness!r} (valid: 'strict', 'best_effort', 'auto', 'force_auto', or 1-4)"
+        ) from None
+
+
+def _dedupe(names: Iterable[str]) -> list[str]:
+    out: list[str] = []
+    for n in names:
+        if n not in out:
+            out.append(n)
+    return out
+
+
+class SwitchRequest:
+    """One switch request: what is asked, what planning dropped, and which followers change chained mode."""
+
+    def __init__(self, cm: ControllerManager, activate: list[str], deactivate: list[str], strictness: str) -> None:
+        self.cm = cm
+        self.rm = cm.resource_manager
+        self.strict = strictness == "strict"
+        self.activate = _dedupe(activate)
+        self.deactivate = _dedupe(deactivate)
+        self.skipped: list[str] = []
+        self.to_chained: set[str] = set()
+        self.from_chained: set[str] = set()
+
+    def state(self, name: str) -> State:
+        """Lifecycle state of loaded controller ``name``."""
+        return self.cm.controllers[name].state
+
+    # ----------------------------------------------------------------- planning
+    def plan(self) -> bool:
+        """Steps 1-8. Returns False if there is nothing to do. Raises SwitchError on rejection."""
+        loaded = self.cm.controllers
+        if not self.activate and not self.deactivate:
+            _log.info("switch_controllers: empty activate and deactivate lists, nothing to do")
+            return False
+        unknown = [n for n in [*self.activate, *self.deactivate] if n not in loaded]
+        if unknown:
+            lines = [f"controller '{n}' is not loaded (loaded: {sorted(loaded) or 'none'})" for n in _dedupe(unknown)]
+            if self.strict:
+                raise SwitchError(lines)
+            self.skipped += lines
+            self.activate = [n for n in self.activate if n in loaded]
+            self.deactivate = [n for n in self.deactivate if n in loaded]
+            if not self.activate and not self.deactivate:
+                raise SwitchError(lines)
+
+        # steps 3-4, repeated until no best-effort drop changes the picture
+        while True:
+            self.to_chained, self.from_chained = set(), set()
+            for d in self.deactivate:  # step 2
+                if self.state(d) is State.ACTIVE:
+                    for follower, _itf, kind in followers(self.cm, d):
+                        if kind == "reference" and loaded[follower].controller.is_in_chained_mode():
+                            self.from_chained.add(follower)
+            problems: dict[str, list[str]] = {}
+            for a in self.activate:
+                reasons, chained = check_activation(self.cm, a, self.activate, self.deactivate)
+                if reasons:
+                    problems[a] = reasons
+                else:
+                    self.to_chained |= chained
+            for d in self.deactivate:
+                reasons = check_deactivation(self.cm, d, self.activate, self.deactivate)
+                if reasons:
+                    problems.setdefault(d, []).extend(reasons)
+            if not problems:
+                break
+            all_reasons = [r for rs in problems.values() for r in rs]
+            if self.strict:
+                raise SwitchError(all_reasons)
+            self.skipped += all_reasons
+            self.activate = [n for n in self.activate if n not in problems]
+            self.deactivate = [n for n in self.deactivate if n not in problems]
+        self.from_chained -= self.to_chained
+        if not self.activate and not self.deactivate:  # step 5
+            return False
+
+        for f in sorted(self.to_chained | self.from_chained):  # step 6: restart to change chained mode
+            if self.state(f) is State.ACTIVE and f not in self.deactivate:
+                self.deactivate.append(f)
+                self.activate.append(f)
+
+        self.check_interfaces()  # step 7
+        start, stop = self.hardware_lists()
+        if not self.rm.prepare_command_mode_switch(start, stop):  # step 8
+            raise SwitchError([f"the hardware rejected the command mode switch: {self.rm.last_switch_error}"])
+        return True
+
+    def check_interfaces(self) -> None:
+        """Step 7 (ERROR whatever the strictness)."""
+        leaving = set(self.deactivate) - set(self.activate)
+        lost: set[str] = set()
+        for d in leaving:
+            lost |= set(self.rm.get_controller_reference_interface_names(d))
+            lost |= set(self.rm.get_controller_exported_state_interface_names(d))
+        coming_cmd: set[str] = set()
+        coming_state: set[str] = set()
+        for a in self.activate:
+            coming_cmd |= set(self.rm.get_controller_reference_interface_names(a))
+            coming_state |= set(self.rm.get_controller_exported_state_interface_names(a))
+        reasons: list[str] = []
+        requested: dict[str, str] = {}
+        for a in self.activate:
+            spec = self.cm.controllers[a]
+            for itf in self.cm.command_interface_names(spec):
+                if not self.rm.command_interface_exists(itf):
+                    reasons.append(
+                        f"controller '{a}' needs command interface '{itf}', which does not exist "
+                        f"(available: {self.rm.available_command_interfaces()})"
+                    )
+                    continue
+                if not ((self.rm.command_interface_is_available(itf) and itf not in lost) or itf in coming_cmd):
+                    reasons.append(f"controller '{a}' needs command interface '{itf}', which is not available{self._why(itf)}")
+                holder = self.rm.command_interface_holder(itf)
+                if holder is not None and holder not in self.deactivate:
+                    reasons.append(
+                        f"command interface '{itf}' is already claimed by '{holder or 'someone'}'; '{a}' cannot claim "
+                        f"it unless '{holder}' is deactivated in the same switch"
+                    )
+                if itf in requested:
+                    reasons.append(
+                        f"controllers '{requested[itf]}' and '{a}' both claim command interface '{itf}'; "
+                        "a command interface can have one owner only"
+                    )
+                requested.setdefault(itf, a)
+            for itf in self.cm.state_interface_names(spec):
+                if not self.rm.state_interface_exists(itf):
+                    reasons.append(
+                        f"controller '{a}' needs state interface '{itf}', which does not exist "
+                        f"(available: {self.rm.available_state_interfaces()})"
+                    )
+                elif not ((self.rm.state_interface_is_available(itf) and itf not in lost) or itf in coming_state):
+                    reasons.append(f"controller '{a}' needs state interface '{itf}', which is not available{self._why(itf)}")
+        if reasons:
+            raise SwitchError(reasons)
+
+    def _why(self, itf: str) -> str:
+        hw = self.rm.hardware_of_interface(itf)
+        if hw is not None:
+            return f" (hardware component '{hw}' is '{self.rm.get_component(hw).get_lifecycle_state().label}')"
+        ctrl = self.rm.controller_of_interface(itf)
+        if ctrl is not None:
+            return f" (controller '{ctrl}' that exports it is '{self.state(ctrl).label}')"
+        return ""
+
+    def hardware_lists(self) -> tuple[list[str], list[str]]:
+        """Hardware command interfaces the activations claim and those the deactivations release."""
+        start = [
+            itf
+            for a in self.activate
+            for itf in self.cm.command_interface_names(self.cm.controllers[a])
+            if self.rm.hardware_of_interface(itf) is not None
+        ]
+        stop = [
+            loan.name
+            for d in self.deactivate
+            for loan in self.cm.controllers[d].controller.command_interfaces
+            if self.rm.hardware_of_interface(loan.name) is not None
+        ]
+        return start, stop
+
+
+def switch_controllers(
+    cm: ControllerManager, activate: Iterable[str], deactivate: Iterable[str], strictness: str | int
+) -> SwitchResult:
+    """Plan and run one switch on ``cm`` (see the module docstring).
+
+    Raises:
+        SwitchError: If the switch is rejected (nothing changed) or a requested activation or
+            deactivation did not happen; ``reasons`` lists every problem.
+        ControllerError: If ``strictness`` is unknown.
+    """
+    switch = SwitchRequest(cm, list(activate), list(deactivate), normalize_strictness(strictness))
+    planned = switch.plan()
+    for line in switch.skipped:
+        _log.warning("switch_controllers (best effort) skipped: %s", line)
+    if not planned:
+        return SwitchResult(skipped=switch.skipped)
+    return execute(switch)

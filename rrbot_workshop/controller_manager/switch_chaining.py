@@ -1,0 +1,146 @@
+"""The chaining checks of a controller switch (steps 3 and 4 of :mod:`rrbot_workshop.controller_manager.switch`).
+
+A controller *follows* another when the other uses its exported interfaces: references it
+claims, or exported states it reads. A follower must be active, or activated in the same switch,
+while a controller that uses it is active; it is in chained mode while its references are claimed.
+The functions here read a :class:`~rrbot_workshop.controller_manager.manager.ControllerManager` and the
+``activate`` / ``deactivate`` lists of a request; they change nothing.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+from typing import TYPE_CHECKING
+
+from rrbot_workshop.controller_interface.base import InterfaceConfigurationType
+from rrbot_workshop.middleware.lifecycle import State
+
+if TYPE_CHECKING:
+    from rrbot_workshop.controller_manager.manager import ControllerManager
+
+__all__ = ["followers", "preceding", "dependency_order", "check_activation", "check_deactivation"]
+
+
+def followers(cm: ControllerManager, name: str) -> list[tuple[str, str, str]]:
+    """``(follower, interface, "reference"|"state")`` for each exported interface controller ``name`` uses."""
+    rm = cm.resource_manager
+    spec = cm.controllers[name]
+    out = []
+    for itf in cm.command_interface_names(spec):
+        owner = rm.controller_of_interface(itf)
+        if owner is not None and owner != name and itf in rm.get_controller_reference_interface_names(owner):
+            out.append((owner, itf, "reference"))
+    for itf in cm.state_interface_names(spec):
+        owner = rm.controller_of_interface(itf)
+        if owner is not None and owner != name and itf in rm.get_controller_exported_state_interface_names(owner):
+            out.append((owner, itf, "state"))
+    return out
+
+
+def preceding(cm: ControllerManager, name: str) -> list[tuple[str, str]]:
+    """``(controller, interface)`` for each configured controller that uses an interface ``name`` exports."""
+    rm = cm.resource_manager
+    refs = set(rm.get_controller_reference_interface_names(name))
+    exps = set(rm.get_controller_exported_state_interface_names(name))
+    out = []
+    for other, spec in cm.controllers.items():
+        if other == name or spec.state not in (State.INACTIVE, State.ACTIVE):
+            continue
+        for itf in cm.command_interface_names(spec):
+            if itf in refs:
+                out.append((other, itf))
+        for itf in cm.state_interface_names(spec):
+            if itf in exps:
+                out.append((other, itf))
+    return out
+
+
+def dependency_order(cm: ControllerManager, names: Iterable[str]) -> list[str]:
+    """``names`` ordered so that a controller comes after every controller whose interfaces it uses
+    (references or exported states); ties keep the update order."""
+    order = cm.update_order()
+    todo = sorted(set(names), key=order.index)
+    deps = {n: {f for f, _i, _k in followers(cm, n) if f in todo and f != n} for n in todo}
+    out: list[str] = []
+    while todo:
+        ready = next((n for n in todo if deps[n] <= set(out)), todo[0])
+        out.append(ready)
+        todo.remove(ready)
+    return out
+
+
+def check_activation(
+    cm: ControllerManager, name: str, activate: list[str], deactivate: list[str]
+) -> tuple[list[str], set[str]]:
+    """Step 3 for one controller of ``activate``.
+
+    Returns:
+        Why ``name`` cannot be activated (empty if it can), and the followers it would put in chained mode.
+    """
+    state = cm.controllers[name].state
+    if state is State.UNCONFIGURED:
+        return [f"controller '{name}' is unconfigured; configure it before activating it"], set()
+    if state is State.ACTIVE and name not in deactivate:
+        return [f"controller '{name}' is already active"], set()
+    if state not in (State.INACTIVE, State.ACTIVE):
+        return [f"controller '{name}' is '{state.label}' and cannot be activated (it must be inactive)"], set()
+    reasons: list[str] = []
+    chained: set[str] = set()
+    _check_followers(cm, name, activate, deactivate, reasons, chained, visited={name})
+    for fb in cm.controllers[name].fallback_controllers:
+        if fb not in cm.controllers:
+            reasons.append(f"fallback controller '{fb}' of '{name}' is not loaded")
+        elif (fb_state := cm.controllers[fb].state) not in (State.INACTIVE, State.ACTIVE):
+            reasons.append(f"fallback controller '{fb}' of '{name}' is '{fb_state.label}'; it must be configured")
+    return reasons, chained
+
+
+def _check_followers(
+    cm: ControllerManager,
+    name: str,
+    activate: list[str],
+    deactivate: list[str],
+    reasons: list[str],
+    chained: set[str],
+    visited: set[str],
+) -> None:
+    controllers = cm.controllers
+    uses_all = controllers[name].controller.command_interface_configuration().type is InterfaceConfigurationType.ALL
+    for follower, itf, kind in followers(cm, name):
+        fstate = controllers[follower].state
+        staying = fstate is State.ACTIVE and (follower not in deactivate or follower in activate)
+        coming = fstate is State.INACTIVE and follower in activate
+        leaving = fstate is State.ACTIVE and follower in deactivate and follower not in activate
+        if not (staying or coming or (leaving and uses_all)):
+            what = "being deactivated" if leaving else f"'{fstate.label}' and not activated in this switch"
+            reasons.append(
+                f"controller '{name}' uses {kind} interface '{itf}' of controller '{follower}', which is {what}; "
+                f"activate '{follower}' first or in the same switch"
+            )
+            continue
+        if kind == "reference" and not controllers[follower].controller.is_in_chained_mode():
+            chained.add(follower)
+        if coming and follower not in visited:
+            visited.add(follower)
+            _check_followers(cm, follower, activate, deactivate, reasons, chained, visited)
+
+
+def check_deactivation(cm: ControllerManager, name: str, activate: list[str], deactivate: list[str]) -> list[str]:
+    """Step 4 for one controller of ``deactivate``: why it cannot be deactivated (empty if it can)."""
+    state = cm.controllers[name].state
+    if state is not State.ACTIVE:
+        return [f"controller '{name}' is not active (it is '{state.label}'); it cannot be deactivated"]
+    reasons = []
+    for other, itf in preceding(cm, name):
+        ostate = cm.controllers[other].state
+        if ostate is State.INACTIVE and other in activate:
+            reasons.append(
+                f"cannot deactivate '{name}': preceding controller '{other}' is being activated and uses its "
+                f"interface '{itf}'"
+            )
+        elif ostate is State.ACTIVE and other not in deactivate:
+            reasons.append(
+                f"cannot deactivate '{name}': preceding controller '{other}' stays active and uses its "
+                f"interface '{itf}'; deactivate '{other}' too (or first)"
+            )
+    return reasons

@@ -1,0 +1,102 @@
+"""Running a planned controller switch, and undoing a strict one that fails (steps 9-11 of
+:mod:`rrbot_workshop.controller_manager.switch`).
+
+The hardware switches command modes first; then controllers are deactivated (users before the
+controllers they use), followers change chained mode, and controllers are activated (exporters
+before their users). Under STRICT the first failed activation stops the switch and everything it
+did is undone.
+"""
+
+from __future__ import annotations
+
+import logging
+from typing import TYPE_CHECKING
+
+from rrbot_workshop.controller_manager.claims import activate_controller, deactivate_controller
+from rrbot_workshop.controller_manager.spec import SwitchResult
+from rrbot_workshop.controller_manager.switch_chaining import dependency_order
+from rrbot_workshop.exceptions import SwitchError
+from rrbot_workshop.middleware.lifecycle import State
+
+if TYPE_CHECKING:
+    from rrbot_workshop.controller_manager.switch import SwitchRequest
+
+__all__ = ["execute", "rollback"]
+
+# The switch's messages keep the logger name they had before it was split into modules.
+_log = logging.getLogger("rrbot_workshop.controller_manager.switch")
+
+
+def execute(request: SwitchRequest) -> SwitchResult:
+    """Run a request that passed planning (steps 9-11).
+
+    Raises:
+        SwitchError: If the hardware fails to switch modes, an activation fails (strict: after the
+            rollback), or a controller is still active after its deactivation; ``partial`` tells
+            whether something changed.
+    """
+    cm, rm = request.cm, request.rm
+    controllers = cm.controllers
+    start, stop = request.hardware_lists()
+    if not rm.perform_command_mode_switch(start, stop):
+        raise SwitchError([f"the hardware failed to perform the command mode switch: {rm.last_switch_error}"])
+    result = SwitchResult(skipped=list(request.skipped))
+    was_chained = {
+        n: controllers[n].controller.is_in_chained_mode()
+        for n in {*request.deactivate, *request.to_chained, *request.from_chained}
+        if controllers[n].controller.is_chainable()
+    }
+    for name in reversed(dependency_order(cm, request.deactivate)):  # users before the controllers they use
+        deactivate_controller(rm, controllers[name])
+        result.deactivated.append(name)
+    for name in sorted(request.to_chained):
+        if not controllers[name].controller.set_chained_mode(True):  # type: ignore[attr-defined]
+            _log.error("controller '%s' refused to enter chained mode", name)
+    for name in sorted(request.from_chained):
+        if controllers[name].state is not State.ACTIVE:
+            controllers[name].controller.set_chained_mode(False)  # type: ignore[attr-defined]
+    failures: list[str] = []
+    for name in dependency_order(cm, request.activate):  # exporters before the controllers that use them
+        reason = activate_controller(rm, controllers[name])
+        if reason:
+            failures.append(reason)
+            if request.strict:
+                break
+        else:
+            result.activated.append(name)
+    if failures and request.strict:
+        rollback(request, result, was_chained)
+        raise SwitchError(failures)
+    still_active = [d for d in request.deactivate if d not in request.activate and controllers[d].state is State.ACTIVE]
+    failures += [f"controller '{d}' is still active after deactivation" for d in still_active]
+    if failures:
+        raise SwitchError(failures, partial=bool(result.activated or result.deactivated))
+    return result
+
+
+def rollback(request: SwitchRequest, result: SwitchResult, was_chained: dict[str, bool]) -> None:
+    """Strict mode: undo a switch whose activation failed while it ran.
+
+    Jazzy only deactivates the controllers this switch activated; here the controllers it
+    deactivated are also brought back, so a failed strict switch leaves the system as it was.
+
+    Args:
+        request: The switch being undone.
+        result: What it did so far.
+        was_chained: Chained mode, before the switch, of the chainable controllers it touched.
+    """
+    cm, rm = request.cm, request.rm
+    controllers = cm.controllers
+    for name in reversed(dependency_order(cm, result.activated)):
+        deactivate_controller(rm, controllers[name])
+    for name, chained in was_chained.items():
+        ctrl = controllers[name].controller
+        if ctrl.get_lifecycle_state() is not State.ACTIVE and ctrl.is_in_chained_mode() != chained:
+            ctrl.set_chained_mode(chained)  # type: ignore[attr-defined]
+    for name in dependency_order(cm, result.deactivated):
+        if controllers[name].state is State.INACTIVE:
+            reason = activate_controller(rm, controllers[name])
+            if reason:
+                _log.error("rollback could not re-activate '%s': %s", name, reason)
+    start, stop = request.hardware_lists()
+    rm.perform_command_mode_switch(stop, start)

@@ -1,0 +1,166 @@
+"""``rrbot-workshop``: grade tasks, show progress, reset an exercise, hand out a student copy.
+
+Exit status: 0 when the command ran (a low score is still a successful grading), 1 when a grader could not
+run, 2 for a usage error (unknown task, unknown track, bad folder). Output carries no wall-clock times, so
+notebook cells that call it give the same output every run.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import sys
+from collections.abc import Sequence
+from typing import Any
+
+from rrbot_workshop.course import tracks
+from rrbot_workshop.exceptions import CourseError, GradingError
+
+__all__ = ["main", "build_parser"]
+
+USAGE_ERROR = 2
+GRADER_ERROR = 1
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The argument parser of ``rrbot-workshop`` (sub-commands grade, progress, tasks, reset, export)."""
+    from rrbot_workshop.course.grading.runner import DEFAULT_CHECK_TIMEOUT
+
+    parser = argparse.ArgumentParser(
+        prog="rrbot-workshop", description="Self-checks and instructor tools for the rrbot_workshop course."
+    )
+    parser.add_argument("--course", metavar="DIR", help="course folder (default: found from the current folder)")
+    sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+
+    def add_grading_options(p: argparse.ArgumentParser) -> None:
+        p.add_argument("--json", action="store_true", help="print JSON instead of a rubric")
+        p.add_argument("--track", choices=tracks.TRACKS, help="track to grade (default: $RRBOT_WORKSHOP_TRACK)")
+        p.add_argument("--root", metavar="DIR", help="grade the taskNN_* folders in DIR instead of the track's")
+        p.add_argument("--timeout", type=float, default=DEFAULT_CHECK_TIMEOUT, metavar="S",
+                       help=f"time limit per check in seconds (default {DEFAULT_CHECK_TIMEOUT:g})")
+
+    grade = sub.add_parser("grade", help="grade one task and print its rubric")
+    grade.add_argument("task", type=int, help="task number")
+    add_grading_options(grade)
+
+    progress = sub.add_parser("progress", help="grade every task that has a grader")
+    add_grading_options(progress)
+
+    sub.add_parser("tasks", help="list the course's tasks and the current track")
+
+    reset = sub.add_parser("reset", help="restore an exercise (your files are backed up first)")
+    reset.add_argument("task", type=int, help="task number")
+
+    export = sub.add_parser("export", help="write a copy of the course for learners")
+    export.add_argument("--student", metavar="DIR", required=True, help="new folder for the copy (no solutions/)")
+    return parser
+
+
+def _cmd_grade(args: argparse.Namespace) -> int:
+    from rrbot_workshop.course.grading.runner import grade
+
+    rubric = grade(args.task, track=args.track, task_root=args.root, check_timeout=args.timeout)
+    print(rubric.to_json() if args.json else rubric.format())
+    return 0
+
+
+def _cmd_progress(args: argparse.Namespace) -> int:
+    from rrbot_workshop.course.grading.runner import grade, graded_tasks
+
+    track = args.track or tracks.current_track()
+    results: list[dict[str, Any]] = []
+    lines = [f"Progress on the {track} track" if args.root is None else f"Progress of {args.root}"]
+    names = tracks.task_names()
+    score = max_score = 0.0
+    for task in graded_tasks():
+        label = names.get(task, f"task{task:02d}")
+        try:
+            rubric = grade(task, track=track, task_root=args.root, check_timeout=args.timeout)
+        except (CourseError, GradingError) as exc:
+            first = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
+            results.append({"task": task, "score": 0.0, "max_score": 0.0, "checks": [], "error": first})
+            lines.append(f"  {label:<32} not graded: {first}")
+            continue
+        results.append(rubric.to_dict())
+        score += rubric.score
+        max_score += rubric.max_score
+        passed = len(rubric.checks) - len(rubric.failed())
+        lines.append(f"  {label:<32} {rubric.score:>5g}/{rubric.max_score:<5g} ({passed} of {len(rubric.checks)} checks)")
+    lines.append(f"Total: {score:g}/{max_score:g} points")
+    if args.json:
+        print(json.dumps({"track": track, "score": score, "max_score": max_score, "tasks": results}))
+    else:
+        print("\n".join(lines))
+    return 0
+
+
+def _cmd_tasks(args: argparse.Namespace) -> int:
+    from rrbot_workshop.course.grading.runner import graded_tasks
+
+    root = tracks.course_root()
+    graded = set(graded_tasks())
+    print(f"Course folder: {root}")
+    print(f"Track: {tracks.current_track()}")
+    for task, name in tracks.task_names().items():
+        have = [t for t in tracks.TRACKS if (root / t / name).is_dir()]
+        grader = "grader" if task in graded else "no grader"
+        print(f"  {task:>2}  {name:<32} {grader:<10} {', '.join(have) or 'no files'}")
+    return 0
+
+
+def _cmd_reset(args: argparse.Namespace) -> int:
+    from rrbot_workshop.course.grading.course import reset_exercise
+
+    result = reset_exercise(args.task)
+    root = tracks.course_root()
+    if result.backup is not None:
+        print(f"Your files are saved in {result.backup.relative_to(root)}")
+    print(f"Restored {result.folder.relative_to(root)} ({result.files} files, from {result.source})")
+    return 0
+
+
+def _cmd_export(args: argparse.Namespace) -> int:
+    from rrbot_workshop.course.grading.course import export_student_copy
+
+    target = export_student_copy(args.student)
+    print(f"Wrote a student copy of the course (without solutions/) to {target}")
+    return 0
+
+
+_COMMANDS = {
+    "grade": _cmd_grade,
+    "progress": _cmd_progress,
+    "tasks": _cmd_tasks,
+    "reset": _cmd_reset,
+    "export": _cmd_export,
+}
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run ``rrbot-workshop`` with ``argv`` (default ``sys.argv[1:]``) and return the exit status."""
+    parser = build_parser()
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as exc:  # argparse: --help (0) or a usage error (2)
+        return int(exc.code) if isinstance(exc.code, int) else USAGE_ERROR
+    previous_root = os.environ.get(tracks.ROOT_ENV)
+    if args.course:
+        os.environ[tracks.ROOT_ENV] = os.path.abspath(args.course)
+    try:
+        return _COMMANDS[args.command](args)
+    except CourseError as exc:
+        print(f"rrbot-workshop: error: {exc}", file=sys.stderr)
+        return USAGE_ERROR
+    except GradingError as exc:
+        print(f"rrbot-workshop: the grader could not run: {exc}", file=sys.stderr)
+        return GRADER_ERROR
+    finally:
+        if previous_root is None:
+            os.environ.pop(tracks.ROOT_ENV, None)
+        else:
+            os.environ[tracks.ROOT_ENV] = previous_root
+
+
+if __name__ == "__main__":
+    sys.exit(main())

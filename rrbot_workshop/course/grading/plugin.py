@@ -1,0 +1,208 @@
+"""pytest plugin that turns a grader run into rubric results, with a time limit per check.
+
+The runner starts ``python -m pytest <grader> -p rrbot_workshop.course.grading.plugin --rubric-json FILE
+--check-timeout S``. For every collected test the plugin records its weight and hint (see
+:func:`~rrbot_workshop.course.grading.rubric.graded`), then its outcome; the file is rewritten after each check, so a
+run that is killed still says which checks finished.
+
+Each phase of a check (fixture set-up, the test, tear-down) gets ``--check-timeout`` seconds. On POSIX a
+``SIGALRM`` timer raises :class:`CheckTimeout` inside the running Python code, so an endless loop in a
+learner's file fails that check and grading goes on. :class:`CheckTimeout` derives from ``BaseException``,
+so a learner's ``except Exception:`` cannot swallow it. Where ``SIGALRM`` does not exist (Windows), a
+watchdog thread records the timeout and ends the process; the runner marks the checks that did not run.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import threading
+from collections.abc import Generator, Iterator
+from contextlib import contextmanager
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from rrbot_workshop.course.grading.rubric import check_spec
+
+__all__ = ["CheckTimeout", "RubricCollector"]
+
+#: Exit status of a grader process ended by the watchdog (platforms without SIGALRM).
+WATCHDOG_EXIT = 86
+
+
+class CheckTimeout(BaseException):  # noqa: N818 - reads as an event, like KeyboardInterrupt
+    """Raised inside a check that ran longer than its time limit."""
+
+
+def _first_line(text: str, limit: int = 300) -> str:
+    """The first non-empty line; a line ending in ':' (a list follows, as in SwitchError) takes the list along."""
+    lines = [line.strip() for line in text.strip().splitlines() if line.strip()]
+    if not lines:
+        return ""
+    out = lines[0]
+    for line in lines[1:]:
+        if not out.endswith(":") and not line.startswith("- "):
+            break
+        out = f"{out} {line}"
+    return out if len(out) <= limit else out[: limit - 3] + "..."
+
+
+def _describe(exc: BaseException) -> str:
+    message = _first_line(str(exc))
+    if isinstance(exc, AssertionError):
+        return message or "assertion failed"
+    name = type(exc).__name__
+    return f"{name}: {message}" if message else name
+
+
+class RubricCollector:
+    """Collects per-check results and writes them to a JSON file.
+
+    Args:
+        path: Output file, or ``None`` to keep results in memory only.
+        timeout: Time limit per check phase in [s]; 0 disables it.
+    """
+
+    def __init__(self, path: Path | None, timeout: float) -> None:
+        self.path = path
+        self.timeout = timeout
+        self.checks: dict[str, dict[str, Any]] = {}
+        self.errors: list[str] = []
+        self.finished = False
+        self._current: str | None = None
+
+    # ------------------------------------------------------------------ output
+    def dump(self) -> None:
+        """Write the current results (atomically) to :attr:`path`."""
+        if self.path is None:
+            return
+        data = {"checks": list(self.checks.values()), "errors": self.errors, "finished": self.finished}
+        tmp = self.path.with_name(self.path.name + ".tmp")
+        tmp.write_text(json.dumps(data), encoding="utf-8")
+        os.replace(tmp, self.path)
+
+    def _fail(self, nodeid: str, detail: str) -> None:
+        entry = self.checks.get(nodeid)
+        if entry is None:
+            return
+        if entry["status"] != "failed":
+            entry["status"] = "failed"
+            entry["detail"] = detail
+
+    # ------------------------------------------------------------------ time limit
+    @contextmanager
+    def time_limit(self, nodeid: str, phase: str) -> Iterator[None]:
+        """Raise :class:`CheckTimeout` in the block (or end the process) after :attr:`timeout` seconds."""
+        if self.timeout <= 0:
+            yield
+            return
+        message = f"the check's {phase} took longer than {self.timeout:g} s (an endless loop?)"
+        if hasattr(signal, "SIGALRM") and threading.current_thread() is threading.main_thread():
+
+            def on_alarm(signum: int, frame: Any) -> None:
+                raise CheckTimeout(message)
+
+            previous = signal.signal(signal.SIGALRM, on_alarm)
+            signal.setitimer(signal.ITIMER_REAL, self.timeout)
+            try:
+                yield
+            finally:
+                signal.setitimer(signal.ITIMER_REAL, 0)
+                signal.signal(signal.SIGALRM, previous)
+            return
+
+        def expire() -> None:
+            self._fail(nodeid, f"CheckTimeout: {message}")
+            self.dump()
+            os._exit(WATCHDOG_EXIT)
+
+        watchdog = threading.Timer(self.timeout, expire)
+        watchdog.daemon = True
+        watchdog.start()
+        try:
+            yield
+        finally:
+            watchdog.cancel()
+
+    # ------------------------------------------------------------------ hooks
+    def pytest_collectreport(self, report: pytest.CollectReport) -> None:
+        if report.failed:
+            self.errors.append(f"{report.nodeid or 'grader'}: {_first_line(str(report.longrepr), 2000)}")
+            self.dump()
+
+    def pytest_collection_finish(self, session: pytest.Session) -> None:
+        for item in session.items:
+            func = getattr(item, "function", None)
+            spec = check_spec(func) if func is not None else check_spec(lambda: None)
+            name = item.name[len("test_"):] if item.name.startswith("test_") else item.name
+            self.checks[item.nodeid] = {
+                "nodeid": item.nodeid,
+                "name": name,
+                "max_points": spec.points,
+                "hint": spec.hint,
+                "status": "pending",
+                "detail": "",
+            }
+        self.dump()
+
+    @pytest.hookimpl(wrapper=True)
+    def pytest_runtest_setup(self, item: pytest.Item) -> Generator[None, Any, Any]:
+        with self.time_limit(item.nodeid, "set-up"):
+            return (yield)
+
+    @pytest.hookimpl(wrapper=True)
+    def pytest_runtest_call(self, item: pytest.Item) -> Generator[None, Any, Any]:
+        with self.time_limit(item.nodeid, "test"):
+            return (yield)
+
+    @pytest.hookimpl(wrapper=True)
+    def pytest_runtest_teardown(self, item: pytest.Item, nextitem: pytest.Item | None) -> Generator[None, Any, Any]:
+        with self.time_limit(item.nodeid, "tear-down"):
+            return (yield)
+
+    @pytest.hookimpl(wrapper=True)
+    def pytest_runtest_makereport(
+        self, item: pytest.Item, call: pytest.CallInfo[None]
+    ) -> Generator[None, pytest.TestReport, pytest.TestReport]:
+        report = yield
+        entry = self.checks.get(item.nodeid)
+        if entry is None:
+            return report
+        if report.failed:
+            detail = _describe(call.excinfo.value) if call.excinfo is not None else "failed"
+            if call.when != "call":
+                detail = f"in {call.when}: {detail}"
+            self._fail(item.nodeid, detail)
+        elif report.skipped:
+            reason = report.longrepr[2] if isinstance(report.longrepr, tuple) else str(report.longrepr)
+            self._fail(item.nodeid, _first_line(f"skipped: {reason}"))
+        elif call.when == "call" and entry["status"] == "pending":
+            entry["status"] = "passed"
+        if call.when == "teardown" and entry["status"] == "pending":
+            # A check whose test never ran (nothing failed, nothing passed) did not earn its points.
+            entry["status"] = "failed"
+            entry["detail"] = "the check did not run"
+        if call.when == "teardown":
+            self.dump()
+        return report
+
+    def pytest_sessionfinish(self, session: pytest.Session, exitstatus: int) -> None:
+        self.finished = True
+        self.dump()
+
+
+def pytest_addoption(parser: pytest.Parser) -> None:
+    group = parser.getgroup("rrbot_workshop", "rrbot_workshop grading")
+    group.addoption("--rubric-json", default=None, help="write per-check results to this JSON file")
+    group.addoption(
+        "--check-timeout", type=float, default=30.0, help="time limit per check phase in seconds (0: none)"
+    )
+
+
+def pytest_configure(config: pytest.Config) -> None:
+    path = config.getoption("--rubric-json")
+    collector = RubricCollector(Path(path) if path else None, float(config.getoption("--check-timeout")))
+    config.pluginmanager.register(collector, "rrbot_workshop_rubric")

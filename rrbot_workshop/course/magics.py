@@ -1,0 +1,302 @@
+"""``%control`` and ``%topic``: IPython magics that print like ``ros2 control`` and ``ros2 topic``.
+
+``%load_ext rrbot_workshop`` registers them. They act on the current system (the last one brought up)
+or on ``--system <name>``::
+
+    %control list_controllers
+    %control switch_controllers --activate joint_trajectory_controller --deactivate forward_position_controller
+    %topic echo /joint_states --once
+    %topic pub /forward_position_controller/commands std_msgs/msg/Float64MultiArray "{data: [0.7, 0.7]}"
+
+Output is printed (this is the one module whose job is printing); bad input prints an error line
+naming what was wrong and what is valid, and never raises into the notebook.
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import shlex
+import typing
+from typing import Any
+
+import yaml
+
+from rrbot_workshop import msgs
+from rrbot_workshop.bringup import System, current_system, get_system
+from rrbot_workshop.exceptions import MessageError, RRBotWorkshopError
+
+__all__ = ["control", "topic", "load_ipython_extension", "message_from_dict", "message_to_yaml"]
+
+
+class _UsageError(Exception):
+    pass
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message: str) -> typing.NoReturn:
+        raise _UsageError(f"{self.prog}: {message}")
+
+    def exit(self, status: int = 0, message: str | None = None) -> typing.NoReturn:
+        raise _UsageError(message or "")
+
+
+def _control_parser() -> _Parser:
+    p = _Parser(prog="%control", add_help=False)
+    p.add_argument("--system", default=None, help="name of the system (default: the last one brought up)")
+    sub = p.add_subparsers(dest="verb", parser_class=_Parser)
+    lc = sub.add_parser("list_controllers", add_help=False)
+    lc.add_argument("-v", "--verbose", action="store_true")
+    lh = sub.add_parser("list_hardware_components", add_help=False)
+    lh.add_argument("-v", "--verbose", action="store_true")
+    li = sub.add_parser("list_hardware_interfaces", add_help=False)
+    li.add_argument("-v", "--verbose", action="store_true")
+    sub.add_parser("list_controller_types", add_help=False)
+    load = sub.add_parser("load_controller", add_help=False)
+    load.add_argument("name")
+    load.add_argument("--set-state", choices=["inactive", "active"], default=None)
+    scs = sub.add_parser("set_controller_state", add_help=False)
+    scs.add_argument("name")
+    scs.add_argument("state", choices=["unconfigured", "inactive", "active"])
+    sw = sub.add_parser("switch_controllers", add_help=False)
+    sw.add_argument("--activate", nargs="*", default=[])
+    sw.add_argument("--deactivate", nargs="*", default=[])
+    sw.add_argument("--strict", action="store_true")
+    sw.add_argument("--activate-asap", action="store_true")
+    un = sub.add_parser("unload_controller", add_help=False)
+    un.add_argument("name")
+    hw = sub.add_parser("set_hardware_component_state", add_help=False)
+    hw.add_argument("name")
+    hw.add_argument("state", choices=["unconfigured", "inactive", "active", "finalized"])
+    sub.add_parser("view_controller_chains", add_help=False)
+    return p
+
+
+_VERBS = (
+    "list_controllers [-v], list_hardware_components [-v], list_hardware_interfaces [-v], list_controller_types, "
+    "load_controller <name> [--set-state inactive|active], set_controller_state <name> <state>, "
+    "switch_controllers [--activate ...] [--deactivate ...] [--strict], unload_controller <name>, "
+    "set_hardware_component_state <name> <state>, view_controller_chains"
+)
+
+
+def _system(name: str | None) -> System:
+    if name is not None:
+        return get_system(name)
+    system = current_system()
+    if system is None:
+        raise _UsageError("no running system: call rrbot_workshop.bringup(...) first")
+    return system
+
+
+def _print_controllers(system: System, verbose: bool) -> None:
+    states = system.controller_manager.list_controllers()
+    if not states:
+        print("No controllers are currently loaded!")
+        return
+    wn = max(len(c.name) for c in states)
+    wt = max(len(c.type) for c in states)
+    ws = max(len(c.state) for c in states)
+    for c in states:
+        print(f"{c.name:<{wn}} {c.type:<{wt}}  {c.state:<{ws}}".rstrip())
+        if verbose:
+            sections = [
+                ("claimed interfaces", c.claimed_interfaces),
+                ("required command interfaces", c.required_command_interfaces),
+                ("required state interfaces", c.required_state_interfaces),
+                ("chained to interfaces", [r for conn in c.chain_connections for r in conn.reference_interfaces]),
+                ("exported reference interfaces", c.reference_interfaces),
+            ]
+            for title, items in sections:
+                print(f"\t{title}:")
+                for item in items:
+                    print(f"\t\t{item}")
+
+
+def _print_hardware_components(system: System, verbose: bool) -> None:
+    for idx, comp in enumerate(system.controller_manager.list_hardware_components(), start=1):
+        print(f"Hardware Component {idx}")
+        print(f"\tname: {comp.name}")
+        print(f"\ttype: {comp.type}")
+        print(f"\tplugin name: {comp.plugin_name}")
+        print(f"\tstate: id={comp.state.id} label={comp.state.label}")
+        print("\tcommand interfaces")
+        for itf in comp.command_interfaces:
+            avail = "[available]" if itf.is_available else "[unavailable]"
+            claimed = "[claimed]" if itf.is_claimed else "[unclaimed]"
+            print(f"\t\t{itf.name} {avail} {claimed}")
+        if verbose:
+            print("\tstate interfaces")
+            for itf in comp.state_interfaces:
+                print(f"\t\t{itf.name} {'[available]' if itf.is_available else '[unavailable]'}")
+
+
+def _print_hardware_interfaces(system: System, verbose: bool) -> None:
+    itfs = system.controller_manager.list_hardware_interfaces()
+    print("command interfaces")
+    for c in itfs.command_interfaces:
+        dtype = f" [{c.data_type}]" if verbose else ""
+        if c.is_available:
+            print(f"\t{c.name}{dtype} [available] {'[claimed]' if c.is_claimed else '[unclaimed]'}")
+        else:
+            print(f"\t{c.name}{dtype} [unavailable] [unclaimed]")
+    print("state interfaces")
+    for s in itfs.state_interfaces:
+        print(f"\t{s.name}{f' [{s.data_type}]' if verbose else ''}")
+
+
+def control(line: str) -> None:
+    """Run one ``%control`` command line (also callable from plain Python)."""
+    try:
+        args = _control_parser().parse_args(shlex.split(line))
+        if args.verb is None:
+            raise _UsageError(f"%control needs a verb: {_VERBS}")
+        system = _system(args.system)
+        cm = system.controller_manager
+        verb = args.verb
+        if verb == "list_controllers":
+            _print_controllers(system, args.verbose)
+        elif verb == "list_hardware_components":
+            _print_hardware_components(system, args.verbose)
+        elif verb == "list_hardware_interfaces":
+            _print_hardware_interfaces(system, args.verbose)
+        elif verb == "list_controller_types":
+            for type_name, base in cm.list_controller_types():
+                print(f"{type_name:70s} {base}")
+        elif verb == "load_controller":
+            cm.load_controller(args.name)
+            print(f"Successfully loaded controller {args.name}")
+            if args.set_state:
+                cm.configure_controller(args.name)
+                if args.set_state == "active":
+                    cm.switch_controllers(activate=[args.name], strictness="strict")
+                print(f"Successfully set controller {args.name} to {args.set_state}")
+        elif verb == "set_controller_state":
+            cm.set_controller_state(args.name, args.state)
+            print(f"Successfully set controller {args.name} to {args.state}")
+        elif verb == "switch_controllers":
+            result = cm.switch_controllers(
+                activate=args.activate, deactivate=args.deactivate,
+                strictness="strict" if args.strict else "best_effort", activate_asap=args.activate_asap,
+            )
+            for line_ in result.skipped:
+                print(f"Skipped: {line_}")
+            print("Successfully switched controllers")
+        elif verb == "unload_controller":
+            cm.unload_controller(args.name)
+            print(f"Successfully unloaded controller {args.name}")
+        elif verb == "set_hardware_component_state":
+            if cm.set_hardware_component_state(args.name, args.state):
+                print(f"Successfully set hardware component {args.name} to {args.state}")
+            else:
+                state = system.resource_manager.get_component(args.name).get_lifecycle_state().label
+                print(f"Error: hardware component {args.name} did not reach {args.state}; it is {state}")
+        elif verb == "view_controller_chains":
+            print(cm.view_controller_chains(), end="")
+    except (_UsageError, RRBotWorkshopError, KeyError, ValueError) as exc:
+        text = exc.args[0] if isinstance(exc, KeyError) and exc.args else str(exc)
+        print(f"Error: {text}".rstrip())
+
+
+# ===================================================================== %topic
+def _message_type(name: str) -> type:
+    short = name.split("/")[-1]
+    cls = getattr(msgs, short, None)
+    if not (isinstance(cls, type) and dataclasses.is_dataclass(cls)):
+        valid = sorted(n for n in msgs.__all__ if dataclasses.is_dataclass(getattr(msgs, n)))
+        raise MessageError(f"unknown message type '{name}' (valid: {', '.join(valid)})")
+    return cls
+
+
+def message_from_dict(cls: type, data: Any) -> Any:
+    """Build message ``cls`` from a (YAML) mapping, recursively; unknown fields are an error.
+
+    Raises:
+        MessageError: If a field does not exist; the message lists the valid ones.
+    """
+    if data is None:
+        return cls()
+    if not isinstance(data, dict):
+        raise MessageError(f"{cls.__name__} must be given as a mapping of its fields, got {data!r}")
+    hints = typing.get_type_hints(cls)
+    names = [f.name for f in dataclasses.fields(cls)]
+    kwargs: dict[str, Any] = {}
+    for key, value in data.items():
+        if key not in names:
+            raise MessageError(f"{cls.__name__} has no field '{key}' (valid: {', '.join(names)})")
+        hint = hints[key]
+        origin = typing.get_origin(hint)
+        if isinstance(hint, type) and dataclasses.is_dataclass(hint):
+            kwargs[key] = message_from_dict(hint, value)
+        elif origin is list and typing.get_args(hint) and dataclasses.is_dataclass(typing.get_args(hint)[0]):
+            kwargs[key] = [message_from_dict(typing.get_args(hint)[0], v) for v in value or []]
+        elif hint is float and isinstance(value, int) and not isinstance(value, bool):
+            kwargs[key] = float(value)
+        elif origin is list and typing.get_args(hint) == (float,) and isinstance(value, list):
+            kwargs[key] = [float(v) if isinstance(v, int) and not isinstance(v, bool) else v for v in value]
+        else:
+            kwargs[key] = value
+    return cls(**kwargs)
+
+
+def message_to_yaml(msg: Any) -> str:
+    """A message as ``ros2 topic echo`` prints it (YAML, block style), without the trailing ``---``."""
+    data = dataclasses.asdict(msg) if dataclasses.is_dataclass(msg) and not isinstance(msg, type) else msg
+    return yaml.safe_dump(data, sort_keys=False, default_flow_style=False).rstrip("\n")
+
+
+def _topic_parser() -> _Parser:
+    p = _Parser(prog="%topic", add_help=False)
+    p.add_argument("--system", default=None)
+    sub = p.add_subparsers(dest="verb", parser_class=_Parser)
+    lst = sub.add_parser("list", add_help=False)
+    lst.add_argument("-t", "--show-types", action="store_true")
+    echo = sub.add_parser("echo", add_help=False)
+    echo.add_argument("topic")
+    echo.add_argument("--once", action="store_true")
+    echo.add_argument("-n", type=int, default=10, help="how many of the latest messages (default 10)")
+    pub = sub.add_parser("pub", add_help=False)
+    pub.add_argument("topic")
+    pub.add_argument("type")
+    pub.add_argument("values", nargs="?", default="{}")
+    pub.add_argument("--once", "-1", action="store_true")
+    return p
+
+
+def topic(line: str) -> None:
+    """Run one ``%topic`` command line: ``list [-t]``, ``echo <topic> [--once] [-n N]``, ``pub <topic> <type> '<yaml>'``."""
+    try:
+        args = _topic_parser().parse_args(shlex.split(line))
+        if args.verb is None:
+            raise _UsageError("%topic needs a verb: list [-t], echo <topic> [--once], pub <topic> <type> '<yaml>'")
+        system = _system(args.system)
+        if args.verb == "list":
+            for name, type_name in system.bus.topic_names_and_types():
+                print(f"{name} [{type_name}]" if args.show_types else name)
+        elif args.verb == "echo":
+            history = system.history(args.topic)
+            if not history:
+                print(f"WARNING: no message has been published on '{args.topic}' yet")
+                return
+            for msg in history[-1:] if args.once else history[-max(args.n, 1):]:
+                print(message_to_yaml(msg))
+                print("---")
+        elif args.verb == "pub":
+            cls = _message_type(args.type)
+            try:
+                data = yaml.safe_load(args.values)
+            except yaml.YAMLError as exc:
+                raise MessageError(f"values are not valid YAML: {exc}") from None
+            msg = message_from_dict(cls, data)
+            system.publish(args.topic, msg)
+            print("publisher: beginning loop")
+            print(f"publishing #1: {msg!r}")
+    except (_UsageError, RRBotWorkshopError, KeyError, ValueError) as exc:
+        text = exc.args[0] if isinstance(exc, KeyError) and exc.args else str(exc)
+        print(f"Error: {text}".rstrip())
+
+
+def load_ipython_extension(ipython: Any) -> None:
+    """Register ``%control`` and ``%topic`` in an IPython shell."""
+    ipython.register_magic_function(control, "line", "control")
+    ipython.register_magic_function(topic, "line", "topic")

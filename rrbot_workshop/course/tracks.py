@@ -1,0 +1,333 @@
+"""Course tracks: whether the learner's files (``exercises/``) or the finished ones (``solutions/``) are used.
+
+Every task keeps its files at the same relative path in ``exercises/taskNN_<name>/`` and
+``solutions/taskNN_<name>/``. The track is chosen by the ``RRBOT_WORKSHOP_TRACK`` environment variable
+(default ``exercises``) or by :func:`set_track` in code. Graders and notebooks find a task's files with
+:func:`task_dir`, so the same grader grades either track, and a copy of the course without ``solutions/``
+still grades.
+
+The plugin names of the original ROSCon 2022 workshop, ``controlko_hardware_interface/RRBotHardwareInterface``
+and ``controlko_controllers/DisplacementController``, resolve to the class in the selected track's task
+folder (see :data:`TRACK_PLUGINS`). When the learner's file cannot be imported yet, the library's reference
+implementation is used instead and a warning says so, so a notebook never stops on a half-written file.
+"""
+
+from __future__ import annotations
+
+import functools
+import importlib
+import importlib.util
+import logging
+import os
+import re
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from rrbot_workshop.exceptions import ControllerError, CourseError, HardwareError
+from rrbot_workshop.middleware import plugins
+
+__all__ = [
+    "TRACKS",
+    "TRACK_ENV",
+    "ROOT_ENV",
+    "TASK_ROOT_ENV",
+    "TrackPlugin",
+    "TRACK_PLUGINS",
+    "current_track",
+    "set_track",
+    "course_root",
+    "task_names",
+    "task_name",
+    "task_dir",
+    "load_track_class",
+    "install",
+]
+
+logger = logging.getLogger(__name__)
+
+#: The two tracks, in the order they are listed in messages.
+TRACKS = ("exercises", "solutions")
+#: Environment variable that selects the track.
+TRACK_ENV = "RRBOT_WORKSHOP_TRACK"
+#: Environment variable that points at the course folder (the one holding ``exercises/`` and ``tests/tasks/``).
+ROOT_ENV = "RRBOT_WORKSHOP_ROOT"
+#: Environment variable that points at a folder of ``taskNN_*`` folders used instead of the track's folder
+#: (to grade a copy, e.g. an instructor grading a learner's upload).
+TASK_ROOT_ENV = "RRBOT_WORKSHOP_TASK_ROOT"
+
+_TASK_RE = re.compile(r"^task(\d{2})_([A-Za-z0-9_]+)$")
+_GRADER_RE = re.compile(r"^test_task(\d{2})_([A-Za-z0-9_]+)\.py$")
+
+_track_override: str | None = None
+
+
+def _check_track(name: str, source: str) -> str:
+    if name not in TRACKS:
+        raise CourseError("track", name, f"unknown course track '{name}' (from {source})", TRACKS)
+    return name
+
+
+def current_track() -> str:
+    """The selected track: the one given to :func:`set_track`, else ``$RRBOT_WORKSHOP_TRACK``, else ``exercises``.
+
+    Raises:
+        CourseError: If the environment variable holds something other than ``exercises`` or ``solutions``.
+    """
+    if _track_override is not None:
+        return _track_override
+    value = os.environ.get(TRACK_ENV, "").strip()
+    if not value:
+        return TRACKS[0]
+    return _check_track(value, f"${TRACK_ENV}")
+
+
+def set_track(name: str | None) -> None:
+    """Select the track for this process (``None`` goes back to the environment variable).
+
+    Graders started from this process with :func:`rrbot_workshop.course.grading.check` use the same track.
+
+    Args:
+        name: ``"exercises"``, ``"solutions"`` or ``None``.
+
+    Raises:
+        CourseError: If ``name`` is not a track.
+    """
+    global _track_override
+    _track_override = None if name is None else _check_track(name, "set_track()")
+
+
+def _is_course(path: Path) -> bool:
+    return (path / "tests" / "tasks").is_dir()
+
+
+def course_root() -> Path:
+    """The course folder: the one that holds ``exercises/``, ``solutions/`` and ``tests/tasks/``.
+
+    Looked up in order: ``$RRBOT_WORKSHOP_ROOT``; the current folder or one of its parents (a notebook runs in
+    ``notebooks/``); the folder above the installed package (an editable install).
+
+    Raises:
+        CourseError: If no such folder is found.
+    """
+    override = os.environ.get(ROOT_ENV)
+    if override:
+        path = Path(override).expanduser().resolve()
+        if not path.is_dir():
+            raise CourseError("folder", str(path), f"${ROOT_ENV} points at '{path}', which is not a folder")
+        return path
+    cwd = Path.cwd().resolve()
+    for candidate in (cwd, *cwd.parents):
+        if _is_course(candidate):
+            return candidate
+    package_parent = Path(__file__).resolve().parents[1]
+    if _is_course(package_parent):
+        return package_parent
+    raise CourseError(
+        "folder", str(cwd), f"no course folder (one with tests/tasks/) at or above '{cwd}'; set ${ROOT_ENV}"
+    )
+
+
+def task_names() -> dict[int, str]:
+    """Every task of the course: number -> folder name (``{1: "task01_description", ...}``), sorted.
+
+    A task exists if it has a folder in ``exercises/`` or ``solutions/``, or a grader in ``tests/tasks/``.
+    """
+    root = course_root()
+    found: dict[int, str] = {}
+    for track in TRACKS:
+        folder = root / track
+        if folder.is_dir():
+            for child in folder.iterdir():
+                match = _TASK_RE.match(child.name)
+                if match and child.is_dir():
+                    found.setdefault(int(match.group(1)), child.name)
+    graders = root / "tests" / "tasks"
+    if graders.is_dir():
+        for child in graders.iterdir():
+            match = _GRADER_RE.match(child.name)
+            if match:
+                found.setdefault(int(match.group(1)), f"task{match.group(1)}_{match.group(2)}")
+    return dict(sorted(found.items()))
+
+
+def task_name(task: int) -> str:
+    """Folder name of a task, e.g. ``task_name(1) == "task01_description"``.
+
+    Raises:
+        CourseError: If the course has no such task; the message lists the tasks that exist.
+    """
+    names = task_names()
+    if task not in names:
+        raise CourseError("task", task, f"there is no task {task} in {course_root()}", names.values())
+    return names[task]
+
+
+def task_dir(task: int, track: str | None = None) -> Path:
+    """Folder of a task's files on a track, e.g. ``exercises/task01_description``.
+
+    If ``$RRBOT_WORKSHOP_TASK_ROOT`` is set, the task folder is looked up there instead (the track does not
+    matter then): this grades a copy of the files.
+
+    Args:
+        task: Task number (1-12).
+        track: ``"exercises"`` or ``"solutions"``; default :func:`current_track`.
+
+    Raises:
+        CourseError: If the task does not exist, or the track's folder is not part of this copy of the course.
+    """
+    name = task_name(task)
+    override = os.environ.get(TASK_ROOT_ENV)
+    if override:
+        return Path(override).expanduser().resolve() / name
+    chosen = _check_track(track, "task_dir()") if track is not None else current_track()
+    folder = course_root() / chosen
+    if not folder.is_dir():
+        raise CourseError(
+            "track", chosen, f"this copy of the course has no '{chosen}/' folder; choose another track", [
+                t for t in TRACKS if (course_root() / t).is_dir()
+            ]
+        )
+    return folder / name
+
+
+# --------------------------------------------------------------------------------------------- track plugins
+
+
+@dataclass(frozen=True)
+class TrackPlugin:
+    """A plugin name whose class comes from the selected track's task folder.
+
+    Attributes:
+        kind: Plugin kind, ``"hardware"`` or ``"controller"``.
+        type_name: The type string used in URDF ``<plugin>`` tags or controller YAML.
+        task: Task number whose folder holds the learner's module.
+        file_name: Module file searched for anywhere under the task folder.
+        class_name: Class defined by that module.
+        reference: ``"module:Class"`` of the library's reference implementation used as fallback.
+    """
+
+    kind: str
+    type_name: str
+    task: int
+    file_name: str
+    class_name: str
+    reference: str
+
+
+#: The original workshop's plugin names, resolved per track.
+TRACK_PLUGINS: tuple[TrackPlugin, ...] = (
+    TrackPlugin(
+        kind="hardware",
+        type_name="controlko_hardware_interface/RRBotHardwareInterface",
+        task=7,
+        file_name="rrbot_hardware_interface.py",
+        class_name="RRBotHardwareInterface",
+        reference="rrbot_workshop.hardware.rrbot:RRBotHardwareInterface",
+    ),
+    TrackPlugin(
+        kind="controller",
+        type_name="controlko_controllers/DisplacementController",
+        task=8,
+        file_name="displacement_controller.py",
+        class_name="DisplacementController",
+        reference="rrbot_workshop.controllers.displacement:DisplacementController",
+    ),
+)
+
+
+def _import_file(path: Path, module_name: str) -> Any:
+    """Execute a Python file as a fresh module (its folder is importable while it runs)."""
+    spec = importlib.util.spec_from_file_location(module_name, path)
+    if spec is None or spec.loader is None:
+        raise ImportError(f"cannot load '{path}' as a Python module")
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[module_name] = module
+    folder = str(path.parent)
+    sys.path.insert(0, folder)
+    try:
+        spec.loader.exec_module(module)
+    except BaseException:
+        sys.modules.pop(module_name, None)
+        raise
+    finally:
+        try:
+            sys.path.remove(folder)
+        except ValueError:
+            pass
+    return module
+
+
+def _reference(plugin: TrackPlugin) -> Any:
+    module, _, attr = plugin.reference.partition(":")
+    return getattr(importlib.import_module(module), attr)
+
+
+def _find_module_file(plugin: TrackPlugin, track: str) -> Path | None:
+    try:
+        folder = task_dir(plugin.task, track)
+    except CourseError:
+        return None
+    if not folder.is_dir():
+        return None
+    matches = sorted(p for p in folder.rglob(plugin.file_name) if "__pycache__" not in p.parts)
+    return matches[0] if matches else None
+
+
+def load_track_class(plugin: TrackPlugin, track: str | None = None) -> Any:
+    """The class for ``plugin`` on a track: the task folder's module, re-read from disk, or the reference.
+
+    Args:
+        plugin: Which plugin to load.
+        track: Track to use; default :func:`current_track`.
+
+    Returns:
+        The class defined in the track's module if it imports and defines ``plugin.class_name``, else the
+        library's reference class (a warning names the file and the error).
+
+    Raises:
+        HardwareError: For a hardware plugin when neither the track's module nor the reference can be loaded.
+        ControllerError: For a controller plugin when neither can be loaded.
+    """
+    chosen = track if track is not None else current_track()
+    path = _find_module_file(plugin, chosen)
+    problem: str
+    if path is None:
+        problem = f"no file '{plugin.file_name}' in task {plugin.task}'s folder on the '{chosen}' track"
+    else:
+        module_name = f"rrbot_workshop_track_{chosen}_task{plugin.task:02d}_{path.stem}"
+        try:
+            module = _import_file(path, module_name)
+            cls = getattr(module, plugin.class_name)
+        except Exception as exc:  # noqa: BLE001 - any error in a learner's file means "not usable yet"
+            problem = f"'{path}' could not be used ({type(exc).__name__}: {exc})"
+        else:
+            logger.debug("plugin '%s' -> %s from %s", plugin.type_name, plugin.class_name, path)
+            return cls
+    try:
+        cls = _reference(plugin)
+    except (ImportError, AttributeError) as exc:
+        error = HardwareError if plugin.kind == "hardware" else ControllerError
+        raise error(
+            f"plugin '{plugin.type_name}': {problem}, and the library has no reference implementation "
+            f"'{plugin.reference}' ({type(exc).__name__}: {exc})"
+        ) from exc
+    logger.warning(
+        "plugin '%s': %s; using the library's reference implementation '%s' instead",
+        plugin.type_name, problem, plugin.reference,
+    )
+    return cls
+
+
+_installed = False
+
+
+def install() -> None:
+    """Register the track resolvers of :data:`TRACK_PLUGINS` with :mod:`rrbot_workshop.middleware.plugins` (idempotent)."""
+    global _installed
+    if _installed:
+        return
+    _installed = True
+    for plugin in TRACK_PLUGINS:
+        plugins.register_resolver(plugin.kind, plugin.type_name, functools.partial(load_track_class, plugin))

@@ -1,0 +1,233 @@
+"""State and command interface handles.
+
+In ros2_control a hardware component *owns* each value it exposes; the resource manager keeps one
+handle per ``"<prefix>/<interface>"`` name, and controllers *borrow* handles through loans. Here a
+handle is a small object holding one value; a loan is a thin view on a handle that the resource
+manager hands out and takes back.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from typing import Any
+
+from rrbot_workshop.exceptions import DescriptionError
+
+__all__ = [
+    "SUPPORTED_DATA_TYPES",
+    "Handle",
+    "StateInterface",
+    "CommandInterface",
+    "LoanedStateInterface",
+    "LoanedCommandInterface",
+    "parse_value",
+]
+
+#: Data types ros2_control handles accept, mapped to the Python type used to hold them.
+SUPPORTED_DATA_TYPES: dict[str, type] = {
+    "double": float,
+    "float32": float,
+    "bool": bool,
+    "int8": int,
+    "uint8": int,
+    "int16": int,
+    "uint16": int,
+    "int32": int,
+    "uint32": int,
+}
+
+_INT_MAX = {
+    "int8": 2**7 - 1,
+    "uint8": 2**8 - 1,
+    "int16": 2**15 - 1,
+    "uint16": 2**16 - 1,
+    "int32": 2**31 - 1,
+    "uint32": 2**32 - 1,
+}
+
+
+def parse_value(text: str | None, data_type: str = "double", *, where: str = "") -> Any:
+    """Convert an ``initial_value`` string to the handle's type.
+
+    An empty or missing value gives NaN for floating types, ``False`` for bool and the type's maximum
+    for integers, as ros2_control does. Floats are parsed independently of the locale.
+
+    Args:
+        text: The text from the description, or None.
+        data_type: One of :data:`SUPPORTED_DATA_TYPES`.
+        where: Name of the interface, used in error messages.
+
+    Raises:
+        DescriptionError: If the data type is unsupported or the text cannot be converted.
+    """
+    if data_type not in SUPPORTED_DATA_TYPES:
+        raise DescriptionError(
+            f"data_type '{data_type}' of '{where}' is not supported (valid: {', '.join(SUPPORTED_DATA_TYPES)})"
+        )
+    text = (text or "").strip()
+    try:
+        if data_type in ("double", "float32"):
+            return math.nan if not text else float(text)
+        if data_type == "bool":
+            if not text:
+                return False
+            if text.lower() in ("true", "1"):
+                return True
+            if text.lower() in ("false", "0"):
+                return False
+            raise ValueError(text)
+        return _INT_MAX[data_type] if not text else int(text)
+    except ValueError as exc:
+        raise DescriptionError(f"initial value '{text}' of '{where}' is not a valid {data_type}") from exc
+
+
+class Handle:
+    """One named value: ``"<prefix_name>/<interface_name>"``.
+
+    Args:
+        prefix_name: Joint, sensor, GPIO or controller name (``"joint1"``).
+        interface_name: Interface name (``"position"``).
+        data_type: One of :data:`SUPPORTED_DATA_TYPES`.
+        initial_value: Initial value; NaN by default for doubles.
+    """
+
+    __slots__ = ("_prefix_name", "_interface_name", "_data_type", "_value", "_name")
+
+    def __init__(
+        self, prefix_name: str, interface_name: str, data_type: str = "double", initial_value: Any = None
+    ) -> None:
+        if data_type not in SUPPORTED_DATA_TYPES:
+            raise DescriptionError(
+                f"interface '{prefix_name}/{interface_name}' has unsupported data_type '{data_type}' "
+                f"(valid: {', '.join(SUPPORTED_DATA_TYPES)})"
+            )
+        self._prefix_name = prefix_name
+        self._interface_name = interface_name
+        self._data_type = data_type
+        self._name = f"{prefix_name}/{interface_name}"
+        self._value: Any = parse_value(None, data_type, where=self._name) if initial_value is None else initial_value
+
+    @property
+    def name(self) -> str:
+        """Full name, ``"<prefix_name>/<interface_name>"``."""
+        return self._name
+
+    @property
+    def prefix_name(self) -> str:
+        """Joint, sensor, GPIO or controller name."""
+        return self._prefix_name
+
+    @property
+    def interface_name(self) -> str:
+        """Interface name, e.g. ``"position"``."""
+        return self._interface_name
+
+    @property
+    def data_type(self) -> str:
+        """Data type name, e.g. ``"double"``."""
+        return self._data_type
+
+    def get_value(self) -> Any:
+        """Current value."""
+        return self._value
+
+    def set_value(self, value: Any) -> None:
+        """Store a new value."""
+        self._value = value
+
+    # ros2_control Jazzy method names
+    def get_name(self) -> str:
+        """Full name, as :attr:`name`."""
+        return self._name
+
+    def get_prefix_name(self) -> str:
+        """Prefix name, as :attr:`prefix_name`."""
+        return self._prefix_name
+
+    def get_interface_name(self) -> str:
+        """Interface name, as :attr:`interface_name`."""
+        return self._interface_name
+
+    def __repr__(self) -> str:
+        return f"{type(self).__name__}({self._name!r}, value={self._value!r})"
+
+
+class StateInterface(Handle):
+    """A value the hardware (or a chainable controller) reports."""
+
+    __slots__ = ()
+
+
+class CommandInterface(Handle):
+    """A value a controller writes and the hardware (or a chained controller) consumes."""
+
+    __slots__ = ()
+
+
+class _Loaned:
+    """A borrowed handle; the release callback runs once when the loan is returned."""
+
+    __slots__ = ("_handle", "_release")
+
+    def __init__(self, handle: Handle, release: Callable[[], None] | None = None) -> None:
+        self._handle = handle
+        self._release = release
+
+    @property
+    def name(self) -> str:
+        """Full interface name."""
+        return self._handle.name
+
+    @property
+    def prefix_name(self) -> str:
+        """Joint, sensor, GPIO or controller name."""
+        return self._handle.prefix_name
+
+    @property
+    def interface_name(self) -> str:
+        """Interface name, e.g. ``"position"``."""
+        return self._handle.interface_name
+
+    @property
+    def data_type(self) -> str:
+        """Data type name of the borrowed handle, e.g. ``"double"``."""
+        return self._handle.data_type
+
+    def get_name(self) -> str:
+        return self._handle.name
+
+    def get_prefix_name(self) -> str:
+        return self._handle.prefix_name
+
+    def get_interface_name(self) -> str:
+        return self._handle.interface_name
+
+    def get_value(self) -> Any:
+        """Current value of the borrowed handle."""
+        return self._handle.get_value()
+
+    def release(self) -> None:
+        """Give the handle back. Safe to call more than once."""
+        if self._release is not None:
+            release, self._release = self._release, None
+            release()
+
+    def __repr__(self) -> str:
+        return f"{type(self).__name__}({self.name!r}, value={self.get_value()!r})"
+
+
+class LoanedStateInterface(_Loaned):
+    """Read-only loan of a state interface."""
+
+    __slots__ = ()
+
+
+class LoanedCommandInterface(_Loaned):
+    """Read-write loan of a command interface (at most one exists per interface)."""
+
+    __slots__ = ()
+
+    def set_value(self, value: Any) -> None:
+        """Write a command."""
+        self._handle.set_value(value)

@@ -1,0 +1,146 @@
+"""Loading hardware components for the resource manager: plugins, ``on_init``, exported handles.
+
+Before anything is loaded, :func:`check_infos` rejects a batch of descriptions with repeated
+names, unknown names in ``hardware_components_initial_state``, or missing or unknown plugins, so
+a bad batch loads nothing. :func:`load_component` wraps one implementation in a
+:class:`~rrbot_workshop.hardware_interface.hardware_component.HardwareComponent`, initialises it, checks that it
+exports every interface its ``<ros2_control>`` tag declares and none that another component
+exports, and stores its handles. The resource manager keeps one :class:`ComponentEntry` per
+component and calls them in :func:`cycle_order`.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+from rrbot_workshop.description.info import HardwareInfo
+from rrbot_workshop.exceptions import HardwareError, PluginNotFound
+from rrbot_workshop.hardware_interface.hardware_component import HardwareComponent
+from rrbot_workshop.hardware_interface.resource_storage import InterfaceStorage
+from rrbot_workshop.middleware import plugins
+from rrbot_workshop.middleware.lifecycle import State
+
+__all__ = ["ComponentEntry", "check_infos", "load_component", "cycle_order"]
+
+#: read/write order of component types, as in ros2_control: actuators, sensors, then systems.
+_TYPE_ORDER = {"actuator": 0, "sensor": 1, "system": 2}
+
+
+@dataclass
+class ComponentEntry:
+    """The resource manager's record of one loaded component.
+
+    Attributes:
+        component: Its lifecycle wrapper.
+        info: Its description.
+        state_names: Full names of the state interfaces it exports.
+        command_names: Full names of the command interfaces it exports.
+        rw_rate: Effective read/write rate in [Hz] (at most the manager's rate).
+        last_read: Time of its last ``read`` in [s] (None before the first).
+        last_write: Time of its last ``write`` in [s] (None before the first).
+    """
+
+    component: HardwareComponent
+    info: HardwareInfo
+    state_names: list[str]
+    command_names: list[str]
+    rw_rate: int
+    last_read: float | None = None
+    last_write: float | None = None
+
+
+def check_infos(
+    infos: Sequence[HardwareInfo], loaded: Iterable[str], initial_states: Mapping[str, State]
+) -> list[tuple[HardwareInfo, Any]]:
+    """Check a batch of descriptions before loading any, and resolve their plugins.
+
+    Args:
+        infos: The descriptions to load.
+        loaded: Names of the components already loaded.
+        initial_states: ``hardware_components_initial_state`` (component name -> state).
+
+    Returns:
+        ``(info, plugin class)`` for each description, in order.
+
+    Raises:
+        HardwareError: If names repeat, ``initial_states`` names an unknown component, or a plugin
+            is missing or unknown.
+    """
+    taken = set(loaded)
+    names = [i.name for i in infos]
+    dup = sorted({n for n in names if names.count(n) > 1} | (set(names) & taken))
+    if dup:
+        raise HardwareError(f"hardware component name(s) {dup} are used more than once; names must be unique")
+    unknown = sorted(set(initial_states) - set(names) - taken)
+    if unknown:
+        raise HardwareError(
+            f"hardware_components_initial_state names unknown component(s) {unknown} (valid: {sorted(names)})"
+        )
+    resolved = []
+    for info in infos:
+        if not info.hardware_plugin_name:
+            raise HardwareError(f"hardware component '{info.name}' has no <hardware><plugin>; cannot load it")
+        try:
+            cls = plugins.resolve("hardware", info.hardware_plugin_name)
+        except PluginNotFound as exc:
+            raise HardwareError(f"hardware component '{info.name}': {exc}") from exc
+        resolved.append((info, cls))
+    return resolved
+
+
+def load_component(impl: Any, info: HardwareInfo, storage: InterfaceStorage, update_rate: int) -> ComponentEntry:
+    """Wrap and initialise one implementation and store its handles (unavailable until configured).
+
+    Args:
+        impl: An instance of a ``SystemInterface``/``ActuatorInterface``/``SensorInterface`` subclass.
+        info: Its description.
+        storage: The interface storage that receives its handles.
+        update_rate: Controller manager rate in [Hz] (the default and largest ``rw_rate``).
+
+    Raises:
+        HardwareError: If ``on_init`` fails, or the exported interfaces do not match the description
+            or clash with another component's.
+    """
+    component = HardwareComponent(impl)
+    state = component.initialize(info)
+    if state is not State.UNCONFIGURED:
+        raise HardwareError(
+            f"hardware component '{info.name}' ({info.hardware_plugin_name or type(impl).__name__}) failed to "
+            f"initialise: on_init did not succeed (state '{state.label}')"
+        )
+    states = list(component.export_state_interfaces())
+    commands = list(component.export_command_interfaces())
+    _check_exports(info, storage, states, commands)
+    storage.add_hardware(info.name, states, commands)
+    rate = info.rw_rate if 0 < info.rw_rate < update_rate else update_rate
+    return ComponentEntry(component, info, [h.name for h in states], [h.name for h in commands], rate)
+
+
+def _check_exports(info: HardwareInfo, storage: InterfaceStorage, states: Sequence[Any], commands: Sequence[Any]) -> None:
+    exported_s = {h.name for h in states}
+    exported_c = {h.name for h in commands}
+    clash = sorted((exported_s & {n for n, o in storage.hardware_owner.items() if n in storage.states})
+                   | (exported_c & {n for n in storage.commands}))
+    if clash:
+        owners = sorted({storage.hardware_owner.get(n, "?") for n in clash})
+        raise HardwareError(
+            f"hardware component '{info.name}' exports interface(s) {clash} already exported by {owners}"
+        )
+    comps = [*info.joints, *info.sensors, *info.gpios]
+    want_s = {f"{c.name}/{i.name}" for c in comps for i in c.state_interfaces}
+    want_c = {f"{c.name}/{i.name}" for c in [*info.joints, *info.gpios] for i in c.command_interfaces}
+    if info.type.lower() == "sensor":
+        want_c = set()
+    missing = sorted(want_s - exported_s) + sorted(want_c - exported_c)
+    if missing:
+        raise HardwareError(
+            f"hardware component '{info.name}' does not export interface(s) {missing} that its "
+            "<ros2_control> description declares"
+        )
+
+
+def cycle_order(entries: Iterable[ComponentEntry]) -> list[ComponentEntry]:
+    """``entries`` in read/write order: actuators, sensors, systems, then any other type (stable)."""
+    return sorted(entries, key=lambda e: _TYPE_ORDER.get(e.info.type.lower(), 3))

@@ -1,0 +1,242 @@
+"""The resource manager: owns the hardware components and every interface handle.
+
+It loads one component per ``<ros2_control>`` tag (by plugin name), drives their lifecycles, keeps the
+interface storage (which names exist, are available, are claimed and by whom), routes command-mode
+switches to the components concerned, and calls ``read``/``write`` on all components each cycle.
+
+Rules kept from ros2_control (``hardware_interface/src/resource_manager.cpp``):
+
+* an interface is available while its component is INACTIVE or ACTIVE (configure makes state *and*
+  command interfaces available; deactivate keeps them; cleanup, shutdown and error remove them);
+* ``read``/``write`` go through actuators, then sensors, then systems; a component whose call returns
+  ERROR or raises is put through ``error()``, its interfaces become unavailable and its name is
+  reported, while the others keep running; a ``<group>`` fails together;
+* DEACTIVATE from ``write`` makes the component INACTIVE (DEACTIVATE from ``read`` counts as an error);
+* a component with ``rw_rate`` below the manager's rate is called only on the cycles that keep its rate.
+
+This class holds the components and their lifecycles; the interface API it offers comes from
+:class:`~rrbot_workshop.hardware_interface.resource_interfaces.ResourceInterfaces`, and the steps live next to it:
+:mod:`~rrbot_workshop.hardware_interface.resource_loading` (plugins, ``on_init``, exported handles),
+:mod:`~rrbot_workshop.hardware_interface.resource_cycle` (``read``/``write`` and failures) and
+:mod:`~rrbot_workshop.hardware_interface.resource_mode_switch` (command mode switches).
+"""
+
+from __future__ import annotations
+
+import logging
+from collections.abc import Mapping, Sequence
+from typing import Any
+
+from rrbot_workshop.description.info import HardwareInfo
+from rrbot_workshop.exceptions import HardwareError
+from rrbot_workshop.hardware_interface import resource_mode_switch
+from rrbot_workshop.hardware_interface.hardware_component import HardwareComponent, HardwareComponentInfo
+from rrbot_workshop.hardware_interface.resource_cycle import HardwareReadWriteStatus, read_or_write
+from rrbot_workshop.hardware_interface.resource_interfaces import ResourceInterfaces
+from rrbot_workshop.hardware_interface.resource_loading import ComponentEntry, check_infos, cycle_order, load_component
+from rrbot_workshop.middleware.lifecycle import State
+
+__all__ = ["ResourceManager", "HardwareReadWriteStatus", "HardwareComponentInfo"]
+
+_log = logging.getLogger(__name__)
+
+
+class ResourceManager(ResourceInterfaces):
+    """Hardware components and their interfaces.
+
+    Args:
+        urdf: URDF text with ``<ros2_control>`` tags to load right away (or None: load later).
+        update_rate: Controller manager rate in [Hz] (the default ``rw_rate``).
+        activate_all: Bring every component to ACTIVE after loading (unless ``initial_states`` says
+            otherwise); False leaves them UNCONFIGURED.
+        initial_states: Component name -> state to reach after loading (``hardware_components_initial_state``).
+        allow_controller_activation_with_inactive_hardware: Let controllers claim command interfaces of
+            INACTIVE components (ros2_control's parameter of that name, default false).
+    """
+
+    def __init__(
+        self,
+        urdf: str | None = None,
+        update_rate: int = 100,
+        activate_all: bool = True,
+        initial_states: Mapping[str, State] | None = None,
+        allow_controller_activation_with_inactive_hardware: bool = False,
+    ) -> None:
+        self.update_rate = update_rate
+        self.activate_all = activate_all
+        self.allow_controller_activation_with_inactive_hardware = allow_controller_activation_with_inactive_hardware
+        super().__init__()
+        self._initial_states = dict(initial_states or {})
+        #: Why the last prepare/perform command mode switch returned False ("" if it did not).
+        self.last_switch_error = ""
+        self._entries: dict[str, ComponentEntry] = {}
+        self._cycle_order: list[ComponentEntry] = []
+        if urdf is not None:
+            self.load_urdf(urdf)
+
+    # ================================================================= loading (steps in resource_loading)
+    def load_urdf(self, urdf: str) -> None:
+        """Parse ``urdf`` and load every ``<ros2_control>`` component in it.
+
+        Raises:
+            DescriptionError: If the ``<ros2_control>`` tags are invalid.
+            HardwareError: See :meth:`load_hardware_infos`.
+        """
+        from rrbot_workshop.description import parse_ros2_control
+
+        self.load_hardware_infos(parse_ros2_control(urdf))
+
+    def load_hardware_infos(self, infos: Sequence[HardwareInfo]) -> None:
+        """Load, initialise and store one component per info, then bring each to its initial state.
+
+        Raises:
+            HardwareError: If names repeat, a plugin is missing or unknown, ``on_init`` fails, or the
+                exported interfaces do not match the description. Nothing is loaded then.
+        """
+        loaded: list[str] = []
+        try:
+            for info, cls in check_infos(infos, self._entries, self._initial_states):
+                self.import_component(cls(), info, _transition=False)
+                loaded.append(info.name)
+        except Exception:
+            # A rejected load changes nothing: forget the components this call already loaded.
+            for name in loaded:
+                entry = self._entries.pop(name)
+                self._storage.remove_hardware(name, entry.state_names, entry.command_names)
+            self._cycle_order = cycle_order(self._entries.values())
+            raise
+        for info in infos:
+            default = State.ACTIVE if self.activate_all else State.UNCONFIGURED
+            target = self._initial_states.get(info.name, default)
+            if target is not State.UNCONFIGURED and not self.set_component_state(info.name, target):
+                _log.error("hardware component '%s' did not reach its initial state '%s'", info.name, target.label)
+
+    def import_component(self, impl: Any, info: HardwareInfo, *, _transition: bool = True) -> None:
+        """Add a ready-made component instance (tests and notebooks), initialise it and store its handles.
+
+        Args:
+            impl: An instance of a ``SystemInterface``/``ActuatorInterface``/``SensorInterface`` subclass.
+            info: Its description.
+
+        Raises:
+            HardwareError: If the name is taken, ``on_init`` fails, or exported interfaces do not match.
+        """
+        if info.name in self._entries:
+            raise HardwareError(f"hardware component '{info.name}' is already loaded")
+        self._entries[info.name] = load_component(impl, info, self._storage, self.update_rate)
+        self._cycle_order = cycle_order(self._entries.values())
+        if _transition:
+            target = self._initial_states.get(info.name, State.ACTIVE if self.activate_all else State.UNCONFIGURED)
+            if target is not State.UNCONFIGURED:
+                self.set_component_state(info.name, target)
+
+    # ================================================================= lifecycle
+    def _entry(self, name: str) -> ComponentEntry:
+        try:
+            return self._entries[name]
+        except KeyError:
+            raise HardwareError(
+                f"no hardware component named '{name}' (valid: {', '.join(sorted(self._entries)) or 'none'})"
+            ) from None
+
+    def _refresh(self, entry: ComponentEntry) -> None:
+        available = entry.component.get_lifecycle_state() in (State.INACTIVE, State.ACTIVE)
+        self._storage.set_available(entry.state_names, entry.command_names, available)
+
+    def set_component_state(self, name: str, target: State) -> bool:
+        """Drive component ``name`` to ``target``, chaining transitions (UNCONFIGURED -> ACTIVE is
+        configure then activate). Interfaces' availability follows the resulting state.
+
+        Returns:
+            True if the component is in ``target`` afterwards.
+
+        Raises:
+            HardwareError: If there is no such component, or ``target`` is not a primary state.
+        """
+        entry = self._entry(name)
+        comp = entry.component
+        if target is State.UNKNOWN:
+            raise HardwareError(f"hardware component '{name}': 'unknown' is not a state one can ask for")
+        steps = {
+            (State.UNCONFIGURED, State.INACTIVE): ("configure",),
+            (State.UNCONFIGURED, State.ACTIVE): ("configure", "activate"),
+            (State.INACTIVE, State.ACTIVE): ("activate",),
+            (State.INACTIVE, State.UNCONFIGURED): ("cleanup",),
+            (State.ACTIVE, State.INACTIVE): ("deactivate",),
+            (State.ACTIVE, State.UNCONFIGURED): ("deactivate", "cleanup"),
+        }
+        current = comp.get_lifecycle_state()
+        plan: tuple[str, ...] = ("shutdown",) if target is State.FINALIZED else steps.get((current, target), ())
+        if current is State.FINALIZED:
+            plan = ()
+        for step in plan:
+            before = comp.get_lifecycle_state()
+            after = getattr(comp, step)()
+            self._refresh(entry)
+            if after is before or after is State.FINALIZED and target is not State.FINALIZED:
+                break
+        ok = comp.get_lifecycle_state() is target
+        if not ok:
+            _log.warning(
+                "hardware component '%s' is '%s' after asking for '%s'", name, comp.get_lifecycle_state().label, target.label
+            )
+        return ok
+
+    def shutdown_components(self) -> None:
+        """Shut every component down (end of the system's life)."""
+        for name in self._entries:
+            if self._entries[name].component.get_lifecycle_state() not in (State.FINALIZED, State.UNKNOWN):
+                self.set_component_state(name, State.FINALIZED)
+
+    def get_components_status(self) -> dict[str, HardwareComponentInfo]:
+        """Status of every component, in load order."""
+        return {name: e.component.component_info(rw_rate=e.rw_rate) for name, e in self._entries.items()}
+
+    def component_names(self) -> list[str]:
+        """Component names in load order."""
+        return list(self._entries)
+
+    def get_component(self, name: str) -> HardwareComponent:
+        """The lifecycle wrapper of component ``name``.
+
+        Raises:
+            HardwareError: If there is no such component.
+        """
+        return self._entry(name).component
+
+    # ================================================================= command mode switch
+    def prepare_command_mode_switch(self, start_interfaces: Sequence[str], stop_interfaces: Sequence[str]) -> bool:
+        """Ask each component concerned whether the new set of claimed command interfaces is possible.
+
+        Returns False (with a logged reason) if a key does not exist or is unavailable, a component
+        would start interfaces while INACTIVE (unless allowed), a component is neither INACTIVE nor
+        ACTIVE, or a component's hook returns not-OK. Each component gets only its own keys.
+        """
+        self.last_switch_error = resource_mode_switch.prepare(
+            self._cycle_order, self._storage, start_interfaces, stop_interfaces,
+            self.allow_controller_activation_with_inactive_hardware,
+        )
+        return not self.last_switch_error
+
+    def perform_command_mode_switch(self, start_interfaces: Sequence[str], stop_interfaces: Sequence[str]) -> bool:
+        """Tell each component concerned to switch mode (after a successful prepare)."""
+        self.last_switch_error = resource_mode_switch.perform(
+            self._cycle_order, self._storage, start_interfaces, stop_interfaces
+        )
+        return not self.last_switch_error
+
+    # ================================================================= cycle (steps in resource_cycle)
+    def read(self, time: float, period: float) -> HardwareReadWriteStatus:
+        """Read every component (actuators, sensors, systems) that is due this cycle.
+
+        Args:
+            time: Current time in [s].
+            period: Controller manager period in [s].
+        """
+        return read_or_write("read", self._cycle_order, time, period, self.update_rate, self._storage,
+                             self.set_component_state)
+
+    def write(self, time: float, period: float) -> HardwareReadWriteStatus:
+        """Write every component that is due this cycle (components write only while ACTIVE)."""
+        return read_or_write("write", self._cycle_order, time, period, self.update_rate, self._storage,
+                             self.set_component_state)

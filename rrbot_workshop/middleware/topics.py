@@ -1,0 +1,332 @@
+"""An in-process topic bus standing in for ROS 2 topics and services.
+
+Publishing never runs a subscriber's callback on the spot: messages are queued and delivered by
+:meth:`TopicBus.deliver`, which the controller manager calls between control cycles. That is the
+separation ros2_control keeps between the real-time loop and the executor that runs subscriptions.
+Every topic keeps its latest message and a bounded history, so a notebook can echo or plot it.
+"""
+
+from __future__ import annotations
+
+import collections
+import logging
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+from rrbot_workshop.exceptions import MessageError
+from rrbot_workshop.msgs import ros_type_name
+
+__all__ = ["TopicBus", "Node", "Publisher", "Subscription", "Service", "resolve_name"]
+
+_log = logging.getLogger(__name__)
+
+
+def resolve_name(name: str, node_name: str = "", namespace: str = "/") -> str:
+    """Expand a topic name as ROS 2 does.
+
+    ``"~/commands"`` on node ``fwd`` becomes ``"/fwd/commands"``; a relative ``"cmd"`` becomes
+    ``"/<namespace>/cmd"``; an absolute ``"/x"`` stays.
+
+    Raises:
+        MessageError: If the name is empty or uses ``~`` without a node name.
+    """
+    if not name:
+        raise MessageError("topic name is empty")
+    ns = "/" + namespace.strip("/") if namespace.strip("/") else ""
+    if name.startswith("~"):
+        if not node_name:
+            raise MessageError(f"topic '{name}' uses '~' but there is no node name to expand it")
+        rest = name[1:].lstrip("/")
+        return f"{ns}/{node_name}" + (f"/{rest}" if rest else "")
+    if name.startswith("/"):
+        return name
+    return f"{ns}/{name}"
+
+
+@dataclass
+class _Sub:
+    topic: str
+    msg_type: type | None
+    callback: Callable[[Any], None]
+    owner: str
+
+
+class Subscription:
+    """Handle to a subscription; :meth:`destroy` stops delivery."""
+
+    def __init__(self, bus: TopicBus, sub: _Sub) -> None:
+        self._bus = bus
+        self._sub = sub
+
+    @property
+    def topic_name(self) -> str:
+        """Fully resolved topic name."""
+        return self._sub.topic
+
+    def destroy(self) -> None:
+        """Stop receiving messages."""
+        self._bus._remove_subscription(self._sub)
+
+
+class Publisher:
+    """Publishes messages of one type on one topic."""
+
+    def __init__(self, bus: TopicBus, topic: str, msg_type: type | None, owner: str) -> None:
+        self._bus = bus
+        self.topic_name = topic
+        self.msg_type = msg_type
+        self.owner = owner
+
+    def publish(self, msg: Any) -> None:
+        """Queue ``msg`` for delivery (it becomes the topic's latest message at once).
+
+        Raises:
+            MessageError: If ``msg`` is not of the publisher's type.
+        """
+        if self.msg_type is not None and not isinstance(msg, self.msg_type):
+            raise MessageError(
+                f"publisher on '{self.topic_name}' sends {self.msg_type.__name__}, got {type(msg).__name__}"
+            )
+        self._bus._publish(self.topic_name, msg)
+
+    def get_subscription_count(self) -> int:
+        """Number of subscriptions on this topic."""
+        return self._bus.subscription_count(self.topic_name)
+
+
+class Service:
+    """A service server: ``callback(request) -> response``."""
+
+    def __init__(self, name: str, callback: Callable[[Any], Any], request_type: type | None) -> None:
+        self.name = name
+        self.callback = callback
+        self.request_type = request_type
+
+
+class TopicBus:
+    """Topics, latest messages, histories and services of one running system.
+
+    Args:
+        history_depth: Messages kept per topic for :meth:`history`.
+    """
+
+    def __init__(self, history_depth: int = 1000) -> None:
+        self._subs: dict[str, list[_Sub]] = collections.defaultdict(list)
+        self._types: dict[str, type] = {}
+        self._queue: collections.deque[tuple[str, Any]] = collections.deque()
+        self._latest: dict[str, Any] = {}
+        self._history: dict[str, collections.deque[Any]] = {}
+        self._history_depth = history_depth
+        self._services: dict[str, Service] = {}
+        self._publishers: dict[str, list[str]] = collections.defaultdict(list)
+
+    # ----------------------------------------------------------------- registration
+    def _check_type(self, topic: str, msg_type: type | None) -> None:
+        if msg_type is None:
+            return
+        known = self._types.get(topic)
+        if known is not None and known is not msg_type:
+            raise MessageError(
+                f"topic '{topic}' carries {known.__name__}; cannot use it with {msg_type.__name__}"
+            )
+        self._types[topic] = msg_type
+
+    def create_publisher(self, msg_type: type | None, topic: str, owner: str = "") -> Publisher:
+        """Create a publisher on an absolute topic name."""
+        self._check_type(topic, msg_type)
+        self._publishers[topic].append(owner)
+        return Publisher(self, topic, msg_type, owner)
+
+    def create_subscription(
+        self, msg_type: type | None, topic: str, callback: Callable[[Any], None], owner: str = ""
+    ) -> Subscription:
+        """Subscribe ``callback`` to an absolute topic name."""
+        self._check_type(topic, msg_type)
+        sub = _Sub(topic, msg_type, callback, owner)
+        self._subs[topic].append(sub)
+        return Subscription(self, sub)
+
+    def _remove_subscription(self, sub: _Sub) -> None:
+        subs = self._subs.get(sub.topic, [])
+        if sub in subs:
+            subs.remove(sub)
+
+    def remove_owner(self, owner: str) -> None:
+        """Drop every subscription, publisher and service registered by ``owner`` (a node being destroyed)."""
+        for topic, subs in self._subs.items():
+            self._subs[topic] = [s for s in subs if s.owner != owner]
+        for topic, owners in self._publishers.items():
+            self._publishers[topic] = [o for o in owners if o != owner]
+        for name in [n for n, s in self._services.items() if getattr(s, "owner", "") == owner]:
+            del self._services[name]
+
+    def subscription_count(self, topic: str) -> int:
+        """Number of subscriptions on ``topic``."""
+        return len(self._subs.get(topic, []))
+
+    # ----------------------------------------------------------------- traffic
+    def _publish(self, topic: str, msg: Any) -> None:
+        self._latest[topic] = msg
+        hist = self._history.get(topic)
+        if hist is None:
+            hist = self._history[topic] = collections.deque(maxlen=self._history_depth)
+        hist.append(msg)
+        if self._subs.get(topic):
+            self._queue.append((topic, msg))
+
+    def publish(self, topic: str, msg: Any) -> None:
+        """Publish ``msg`` on ``topic`` from outside any node (like ``ros2 topic pub``).
+
+        Raises:
+            MessageError: If the topic is known to carry another message type.
+        """
+        known = self._types.get(topic)
+        if known is not None and not isinstance(msg, known):
+            raise MessageError(f"topic '{topic}' carries {known.__name__}, got {type(msg).__name__}")
+        self._publish(topic, msg)
+
+    def deliver(self) -> int:
+        """Run subscriber callbacks for every queued message, oldest first.
+
+        A callback that raises is logged with its traceback and does not stop delivery.
+
+        Returns:
+            Number of callbacks run.
+        """
+        count = 0
+        pending = len(self._queue)
+        for _ in range(pending):
+            topic, msg = self._queue.popleft()
+            for sub in list(self._subs.get(topic, [])):
+                try:
+                    sub.callback(msg)
+                except Exception:  # noqa: BLE001 - a subscriber's bug must not stop the bus
+                    _log.exception("subscriber of '%s' (%s) raised", topic, sub.owner or "anonymous")
+                count += 1
+        return count
+
+    def latest(self, topic: str) -> Any:
+        """Last message published on ``topic``, or None."""
+        return self._latest.get(topic)
+
+    def history(self, topic: str) -> list[Any]:
+        """Messages published on ``topic`` (at most ``history_depth``), oldest first."""
+        return list(self._history.get(topic, ()))
+
+    def clear_history(self, topic: str | None = None) -> None:
+        """Forget the history of one topic, or of all."""
+        if topic is None:
+            self._history.clear()
+        else:
+            self._history.pop(topic, None)
+
+    def topic_names_and_types(self) -> list[tuple[str, str]]:
+        """Known topics with their ROS message type names, sorted (``ros2 topic list -t``)."""
+        topics = set(self._types) | set(self._latest) | {t for t, s in self._subs.items() if s}
+
+        def type_name(topic: str) -> str:
+            if topic in self._types:
+                return ros_type_name(self._types[topic])
+            if topic in self._latest:  # published from outside any node: the message tells its type
+                return ros_type_name(type(self._latest[topic]))
+            return "?"
+
+        return sorted((t, type_name(t)) for t in topics)
+
+    # ----------------------------------------------------------------- services
+    def create_service(
+        self, name: str, callback: Callable[[Any], Any], request_type: type | None = None, owner: str = ""
+    ) -> Service:
+        """Offer a service under an absolute name.
+
+        Raises:
+            MessageError: If a service of that name exists.
+        """
+        if name in self._services:
+            raise MessageError(f"service '{name}' already exists")
+        srv = Service(name, callback, request_type)
+        srv.owner = owner  # type: ignore[attr-defined]
+        self._services[name] = srv
+        return srv
+
+    def call_service(self, name: str, request: Any) -> Any:
+        """Call a service and return its response.
+
+        Raises:
+            MessageError: If no such service exists or the request has the wrong type.
+        """
+        srv = self._services.get(name)
+        if srv is None:
+            raise MessageError(f"no service '{name}' (available: {', '.join(sorted(self._services)) or 'none'})")
+        if srv.request_type is not None and not isinstance(request, srv.request_type):
+            raise MessageError(
+                f"service '{name}' takes {srv.request_type.__name__}, got {type(request).__name__}"
+            )
+        return srv.callback(request)
+
+    def service_names(self) -> list[str]:
+        """Names of all services, sorted."""
+        return sorted(self._services)
+
+
+class Node:
+    """What a controller (or test publisher) uses to talk: name, topics, services, clock.
+
+    Args:
+        name: Node name (a controller's name).
+        bus: The system's topic bus.
+        namespace: Node namespace, ``"/"`` by default.
+        clock: Callable returning the current time in [s].
+    """
+
+    def __init__(
+        self, name: str, bus: TopicBus, namespace: str = "/", clock: Callable[[], float] | None = None
+    ) -> None:
+        self._name = name
+        self._namespace = namespace
+        self._bus = bus
+        self._clock = clock or (lambda: 0.0)
+
+    def get_name(self) -> str:
+        """Node name."""
+        return self._name
+
+    def get_namespace(self) -> str:
+        """Node namespace."""
+        return self._namespace
+
+    def get_fully_qualified_name(self) -> str:
+        """``/<namespace>/<name>``."""
+        return resolve_name("~", self._name, self._namespace)
+
+    @property
+    def bus(self) -> TopicBus:
+        """The topic bus this node is attached to."""
+        return self._bus
+
+    def now(self) -> float:
+        """Current time in [s] (simulated by default)."""
+        return self._clock()
+
+    def resolve_topic_name(self, topic: str) -> str:
+        """Expand ``~`` and relative names against this node."""
+        return resolve_name(topic, self._name, self._namespace)
+
+    def create_publisher(self, msg_type: type | None, topic: str, qos: Any = 10) -> Publisher:
+        """Create a publisher (argument order as in rclpy)."""
+        return self._bus.create_publisher(msg_type, self.resolve_topic_name(topic), owner=self._name)
+
+    def create_subscription(
+        self, msg_type: type | None, topic: str, callback: Callable[[Any], None], qos: Any = 10
+    ) -> Subscription:
+        """Create a subscription (argument order as in rclpy)."""
+        return self._bus.create_subscription(msg_type, self.resolve_topic_name(topic), callback, owner=self._name)
+
+    def create_service(self, srv_type: type | None, name: str, callback: Callable[[Any], Any]) -> Service:
+        """Create a service; ``srv_type`` is the request dataclass (e.g. ``SetBoolRequest``)."""
+        return self._bus.create_service(self.resolve_topic_name(name), callback, srv_type, owner=self._name)
+
+    def destroy(self) -> None:
+        """Remove this node's publishers, subscriptions and services from the bus."""
+        self._bus.remove_owner(self._name)
