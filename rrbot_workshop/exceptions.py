@@ -180,11 +180,22 @@ class SwitchError(ControllerError):
         reasons: One line per problem found.
         partial: True if some controllers did change state (a best-effort switch in which an
             activation failed while the switch ran); False if the request was rejected as a whole.
+        controllers: The controllers the problems involve (requested ones, holders of a claimed interface,
+            preceding or following controllers of a chain), each once, in the order first met.
+        interfaces: The interfaces the problems involve (claimed twice, missing, unavailable), each once.
     """
 
-    def __init__(self, reasons: Iterable[str], partial: bool = False) -> None:
+    def __init__(
+        self,
+        reasons: Iterable[str],
+        partial: bool = False,
+        controllers: Iterable[str] = (),
+        interfaces: Iterable[str] = (),
+    ) -> None:
         self.reasons = list(reasons)
         self.partial = partial
+        self.controllers = list(dict.fromkeys(controllers))
+        self.interfaces = list(dict.fromkeys(interfaces))
         head = "switch partly failed:" if partial else "switch rejected, no controller changed state:"
         super().__init__(head + "\n  - " + "\n  - ".join(self.reasons))
 
