@@ -4,13 +4,19 @@ ros2_control reads the URDF through urdfdom to find each ``<ros2_control>`` join
 safety controller and mimic tag. This module keeps exactly that, and rejects what urdfdom rejects:
 no robot name, no links, duplicate names, unknown joint types, missing parent/child links, revolute or
 prismatic joints without ``<limit>``, ``<limit>`` without ``effort`` or ``velocity``, a link with two parents,
-and more than one root link.
+and more than one root link. It also rejects what urdfdom lets through but breaks every consumer later (a
+physics engine, a mesh library, a limiter): numbers that are NaN or infinite, ``<limit lower>`` above ``upper``,
+``<origin>`` with other than three finite numbers, and ``<inertial>`` with a mass or an inertia that is not
+positive (definite).
 """
 
 from __future__ import annotations
 
+import math
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass, field
+
+import numpy as np
 
 from rrbot_workshop.exceptions import DescriptionError
 
@@ -104,11 +110,56 @@ def _float(element: ET.Element, attribute: str, default: float | None, where: st
             raise _fail(f"<{local_name(element)}> of {where} has no '{attribute}' attribute (it is required)", source)
         return default
     try:
-        return float(text)
+        value = float(text)
     except ValueError:
         raise _fail(
             f"<{local_name(element)} {attribute}='{text}'> of {where} is not a number", source
         ) from None
+    if not math.isfinite(value):
+        raise _fail(f"<{local_name(element)} {attribute}='{text}'> of {where} must be a finite number", source)
+    return value
+
+
+def _check_origin(element: ET.Element, where: str, source: str | None) -> None:
+    """``<origin xyz rpy>``: each attribute, when present, holds three finite numbers."""
+    for origin in _children(element, "origin"):
+        for attribute in ("xyz", "rpy"):
+            text = origin.get(attribute)
+            if text is None:
+                continue
+            parts = text.split()
+            try:
+                values = [float(part) for part in parts]
+            except ValueError:
+                values = []
+            if len(values) != 3 or not all(math.isfinite(v) for v in values):
+                raise _fail(
+                    f"<origin {attribute}='{text}'> of {where} must be three finite numbers (e.g. '0 0 0.1')", source
+                )
+
+
+def _check_link(link: ET.Element, name: str, source: str | None) -> None:
+    """Origins of a link's inertial, visuals and collisions; a positive mass and a positive-definite inertia."""
+    where = f"link '{name}'"
+    for part in ("inertial", "visual", "collision"):
+        for element in _children(link, part):
+            _check_origin(element, f"<{part}> of {where}", source)
+    for inertial in _children(link, "inertial"):
+        for mass in _children(inertial, "mass"):
+            value = _float(mass, "value", None, where, source)
+            if value <= 0.0:
+                raise _fail(f"<mass value='{mass.get('value')}'> of {where} must be positive [kg]", source)
+        for inertia in _children(inertial, "inertia"):
+            names = ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")
+            ixx, ixy, ixz, iyy, iyz, izz = (_float(inertia, n, 0.0, where, source) for n in names)
+            matrix = np.array([[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]])
+            if float(np.linalg.eigvalsh(matrix).min()) <= 0.0:
+                given = " ".join(f"{n}='{inertia.get(n, '0')}'" for n in names)
+                raise _fail(
+                    f"<inertia {given}> of {where} is not positive definite: the diagonal terms must be positive and "
+                    "large enough for the products (e.g. a solid box: ixx = m (y^2 + z^2) / 12, ...) [kg m^2]",
+                    source,
+                )
 
 
 def _parse_joint(element: ET.Element, links: set[str], source: str | None) -> UrdfJoint:
@@ -128,6 +179,7 @@ def _parse_joint(element: ET.Element, links: set[str], source: str | None) -> Ur
         if link not in links:
             raise _fail(f"{where} names {end} link '{link}', which is not a <link> of the robot", source)
         ends[end] = link
+    _check_origin(element, where, source)
     limit = None
     limit_tags = _children(element, "limit")
     if limit_tags:
@@ -138,6 +190,12 @@ def _parse_joint(element: ET.Element, links: set[str], source: str | None) -> Ur
             effort=_float(tag, "effort", None, where, source),
             velocity=_float(tag, "velocity", None, where, source),
         )
+        if limit.lower > limit.upper:
+            raise _fail(
+                f"<limit lower='{tag.get('lower')}' upper='{tag.get('upper')}'> of {where} has lower above upper "
+                "(valid: lower <= upper)",
+                source,
+            )
     elif jtype in ("revolute", "prismatic"):
         raise _fail(f"{where} is {jtype} but has no <limit> (required for revolute and prismatic joints)", source)
     safety = None
@@ -188,6 +246,7 @@ def parse_urdf_model(robot: ET.Element, source: str | None = None) -> UrdfModel:
             raise _fail("a <link> has no 'name' attribute", source)
         if link_name in model.links:
             raise _fail(f"link '{link_name}' is declared twice", source)
+        _check_link(link, link_name, source)
         model.links.append(link_name)
     if not model.links:
         raise _fail(f"robot '{name}' has no <link>", source)

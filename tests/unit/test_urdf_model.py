@@ -44,3 +44,42 @@ def test_invalid_model_is_rejected(old: str, new: str, expected: str) -> None:
     with pytest.raises(DescriptionError, match="Failed to parse URDF") as info:
         parse_urdf_model(ET.fromstring(_URDF.replace(old, new, 1)), source="x.urdf")
     assert expected in str(info.value) and info.value.source == "x.urdf"
+
+
+_PHYSICAL = """<robot name="p">
+  <link name="base"/>
+  <link name="arm">
+    <inertial><origin xyz="0 0 0.5" rpy="0 0 0"/><mass value="1.0"/>
+      <inertia ixx="0.1" ixy="0" ixz="0" iyy="0.1" iyz="0" izz="0.01"/></inertial>
+    <visual><origin xyz="0 0 0.5"/><geometry><box size="0.1 0.1 1"/></geometry></visual>
+  </link>
+  <joint name="j" type="revolute"><origin xyz="0 0 1" rpy="0 0 0"/>
+    <parent link="base"/><child link="arm"/><limit lower="-1" upper="1" effort="10" velocity="1"/></joint>
+</robot>"""
+
+
+def test_physical_description_is_accepted() -> None:
+    """A positive mass, a positive-definite inertia, finite origins and lower <= upper pass."""
+    model = parse_urdf_model(ET.fromstring(_PHYSICAL), source="arm.urdf")
+    assert model.joints["j"].limit is not None and model.joints["j"].limit.lower == -1.0
+
+
+@pytest.mark.parametrize("old, new, expected", [
+    ('<mass value="1.0"/>', '<mass value="0"/>', "<mass value='0'> of link 'arm' must be positive"),
+    ('<mass value="1.0"/>', '<mass value="-2"/>', "<mass value='-2'> of link 'arm' must be positive"),
+    ('izz="0.01"', 'izz="-0.01"', "of link 'arm' is not positive definite"),
+    ('ixy="0"', 'ixy="0.5"', "of link 'arm' is not positive definite"),
+    ('ixx="0.1"', 'ixx="0"', "of link 'arm' is not positive definite"),
+    ('<origin xyz="0 0 1"', '<origin xyz="0 nan 1"', "<origin xyz='0 nan 1'> of joint 'j' must be three finite numbers"),
+    ('<origin xyz="0 0 0.5" rpy="0 0 0"/>', '<origin xyz="0 0 inf"/>', "of <inertial> of link 'arm' must be three"),
+    ('<origin xyz="0 0 0.5"/>', '<origin xyz="0 0"/>', "of <visual> of link 'arm' must be three finite numbers"),
+    ('lower="-1" upper="1"', 'lower="1" upper="-1"', "has lower above upper (valid: lower <= upper)"),
+    ('effort="10"', 'effort="nan"', "<limit effort='nan'> of joint 'j' must be a finite number"),
+])
+def test_unphysical_description_is_rejected_naming_the_element(old: str, new: str, expected: str) -> None:
+    """NaN/inf numbers, lower > upper, non-positive masses and inertias are rejected with the file and element."""
+    text = _PHYSICAL.replace(old, new, 1)
+    assert text != _PHYSICAL
+    with pytest.raises(DescriptionError, match="arm.urdf: Failed to parse URDF") as info:
+        parse_urdf_model(ET.fromstring(text), source="arm.urdf")
+    assert expected in str(info.value)
