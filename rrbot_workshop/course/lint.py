@@ -1,0 +1,432 @@
+"""``rrbot-workshop lint``: check a controllers YAML (and a description) against what ROS 2 Jazzy accepts.
+
+A learner's files are meant to carry over to a real robot unchanged, so the checks are the ones a Jazzy
+``controller_manager`` and the ``ros2_controllers`` would make when the file is loaded there, reported all at
+once instead of one at a time at bringup:
+
+* the file parses and has the ``<node>: ros__parameters:`` layout;
+* ``controller_manager`` parameters are known to Jazzy, with their types (unknown names get the closest valid one);
+* each controller has a known ``type`` (the closest known type is suggested);
+* each controller's parameters: unknown or misspelt names, wrong types, missing required values, failed
+  validations (as generate_parameter_library checks them);
+* keys removed or with changed defaults between Humble and Jazzy;
+* with a description: every interface a controller claims or reads exists in the ``<ros2_control>`` tags
+  (or is a reference interface of another controller in the file).
+
+:func:`lint_controllers` returns :class:`Finding` records; the CLI prints them as ``FILE:LINE: level: message``.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import difflib
+import fnmatch
+import logging
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import yaml
+
+from rrbot_workshop.exceptions import DescriptionError, ParameterError, PluginNotFound, RRBotWorkshopError
+from rrbot_workshop.middleware import plugins
+from rrbot_workshop.middleware.params import ControllersConfig, ParameterSchema, ParamListener, load_controllers_yaml
+
+__all__ = ["Finding", "CONTROLLER_MANAGER_PARAMETERS", "lint_controllers", "lint_description", "format_findings"]
+
+#: controller_manager parameters of Jazzy (controller_manager_parameters.yaml) -> expected Python type.
+CONTROLLER_MANAGER_PARAMETERS: dict[str, type | tuple[type, ...]] = {
+    "update_rate": int,
+    "enforce_command_limits": bool,
+    "handle_exceptions": bool,
+    "thread_priority": int,
+    "cpu_affinity": list,
+    "use_sim_time": bool,
+    "hardware_components_initial_state.unconfigured": list,
+    "hardware_components_initial_state.inactive": list,
+    "defaults.switch_controller.strictness": str,
+    "defaults.allow_controller_activation_with_inactive_hardware": bool,
+    "defaults.deactivate_controllers_on_hardware_self_deactivate": bool,
+    "diagnostics.threshold.controller_manager.periodicity.mean_error.warn": (int, float),
+    "diagnostics.threshold.controller_manager.periodicity.mean_error.error": (int, float),
+    "diagnostics.threshold.controller_manager.periodicity.standard_deviation.warn": (int, float),
+    "diagnostics.threshold.controller_manager.periodicity.standard_deviation.error": (int, float),
+}
+
+#: Keys that existed in Humble and are gone or renamed in Jazzy: (controller type pattern, key) -> advice.
+_REMOVED: dict[tuple[str, str], str] = {
+    ("controller_manager", "configure_components_on_start"):
+        "was replaced by 'hardware_components_initial_state.inactive' (list of component names)",
+    ("controller_manager", "activate_components_on_start"):
+        "was removed; every component not listed in 'hardware_components_initial_state' is activated",
+    ("joint_trajectory_controller/*", "start_with_holding"):
+        "was removed in Jazzy: the controller always holds the position at activation",
+    ("joint_trajectory_controller/*", "angle_wraparound"):
+        "was removed in Jazzy: declare the joint as type='continuous' in the URDF instead",
+    ("diff_drive_controller/*", "wheels_per_side"): "was removed in Jazzy (it was never used)",
+    ("diff_drive_controller/*", "linear.x.has_velocity_limits"):
+        "was removed in Jazzy: leave 'linear.x.max_velocity' / 'min_velocity' at .NAN for no limit",
+    ("diff_drive_controller/*", "linear.x.has_acceleration_limits"):
+        "was removed in Jazzy: leave the acceleration limits at .NAN for no limit",
+    ("diff_drive_controller/*", "linear.x.has_jerk_limits"):
+        "was removed in Jazzy: leave the jerk limits at .NAN for no limit",
+    ("diff_drive_controller/*", "angular.z.has_velocity_limits"):
+        "was removed in Jazzy: leave 'angular.z.max_velocity' / 'min_velocity' at .NAN for no limit",
+    ("diff_drive_controller/*", "angular.z.has_acceleration_limits"):
+        "was removed in Jazzy: leave the acceleration limits at .NAN for no limit",
+    ("diff_drive_controller/*", "angular.z.has_jerk_limits"):
+        "was removed in Jazzy: leave the jerk limits at .NAN for no limit",
+}
+
+#: Defaults that changed between Humble and Jazzy and are worth a note when a file relies on them.
+_CHANGED_DEFAULTS: dict[tuple[str, str], str] = {
+    ("joint_trajectory_controller/*", "allow_nonzero_velocity_at_trajectory_end"):
+        "defaults to false in Jazzy (true in Humble): a trajectory whose last point has a velocity is rejected",
+}
+
+
+@dataclass(frozen=True)
+class Finding:
+    """One problem found in a file.
+
+    Attributes:
+        level: ``"error"`` (Jazzy would refuse the file or the controller), ``"warning"`` (it loads, but
+            probably not as meant) or ``"note"`` (a default that changed between Humble and Jazzy is relied on).
+        source: File the finding is about.
+        line: 1-based line in that file, or 0 when unknown.
+        where: The element at fault (``"joint_trajectory_controller.gains.joint1.p"``).
+        message: What is wrong and what would be valid.
+    """
+
+    level: str
+    source: str
+    line: int
+    where: str
+    message: str
+
+    def __str__(self) -> str:
+        line = f":{self.line}" if self.line else ""
+        return f"{self.source}{line}: {self.level}: {self.where}: {self.message}"
+
+
+class _Lines:
+    """Line numbers of the keys of a YAML document, by path of keys."""
+
+    def __init__(self, text: str) -> None:
+        self._lines: dict[tuple[str, ...], int] = {}
+        try:
+            node = yaml.compose(text)
+        except yaml.YAMLError:
+            node = None
+        if node is not None:
+            self._walk(node, ())
+
+    def _walk(self, node: yaml.Node, path: tuple[str, ...]) -> None:
+        if isinstance(node, yaml.MappingNode):
+            for key, value in node.value:
+                child = (*path, str(key.value))
+                self._lines[child] = key.start_mark.line + 1
+                self._walk(value, child)
+
+    def find(self, *path: str) -> int:
+        """Line of the deepest key of ``path`` that exists (0 if none)."""
+        for end in range(len(path), 0, -1):
+            if path[:end] in self._lines:
+                return self._lines[path[:end]]
+        return 0
+
+    def node_key(self, name: str) -> str | None:
+        """The top-level key naming node ``name`` (``name``, ``/name`` or ``/**/name``)."""
+        for (first, *rest) in self._lines:
+            if not rest and first.strip("/").split("/")[-1] == name:
+                return first
+        return None
+
+
+def _closest(name: str, valid: Iterable[str]) -> str:
+    matches = difflib.get_close_matches(name, list(valid), n=1, cutoff=0.6)
+    return f" (did you mean '{matches[0]}'?)" if matches else ""
+
+
+def _flatten(values: Mapping[str, Any], prefix: str = "") -> dict[str, Any]:
+    out: dict[str, Any] = {}
+    for key, val in values.items():
+        name = f"{prefix}{key}"
+        if isinstance(val, Mapping) and val:
+            out.update(_flatten(val, name + "."))
+        else:
+            out[name] = val
+    return out
+
+
+def _declared_patterns(schema: ParameterSchema) -> list[str]:
+    """Declared names with each mapped segment (``__map_joints``) as a ``*`` wildcard."""
+    return [
+        ".".join("*" if part.startswith("__map_") else part for part in decl.path) for decl in schema.declarations
+    ]
+
+
+def _placeholder(ptype: str) -> Any:
+    return {"bool": False, "int": 1, "double": 1.0, "string": "x"}.get(ptype, ["x"])
+
+
+def _check_parameters(
+    name: str, ctype: str, schema: ParameterSchema, values: dict[str, Any], report: Any
+) -> None:
+    """Collect every parameter error of one controller, not only the first one."""
+    given = _flatten(values)
+    patterns = _declared_patterns(schema)
+    for key in given:
+        if not any(fnmatch.fnmatchcase(key, p) for p in patterns):
+            advice = next((a for (t, k), a in _REMOVED.items() if k == key and fnmatch.fnmatchcase(ctype, t)), None)
+            if advice:
+                report("error", key, f"'{key}' {advice}")
+            else:
+                report(
+                    "warning", key,
+                    f"'{name}' ({ctype}) declares no parameter '{key}'; it is ignored{_closest(key, patterns)}",
+                )
+    for (pattern, key), note in _CHANGED_DEFAULTS.items():
+        if fnmatch.fnmatchcase(ctype, pattern) and key not in given:
+            report("note", key, f"'{key}' is not set and {note}")
+    declared_types = {".".join(d.path): d.type for d in schema.declarations}
+    working = {k: v for k, v in given.items() if any(fnmatch.fnmatchcase(k, p) for p in patterns)}
+    reported: set[str] = set()
+    for _ in range(len(schema.declarations) + 1):
+        try:
+            ParamListener(schema, _nest(working), name)
+            return
+        except ParameterError as err:
+            parameter = err.parameter
+            if parameter in reported:  # the placeholder did not help: stop rather than loop
+                return
+            reported.add(parameter)
+            level_message = str(err)
+            report("error", parameter, level_message)
+            pattern = next((p for p in declared_types if fnmatch.fnmatchcase(parameter, p.replace("__map_", "*"))), "")
+            working[parameter] = _placeholder(declared_types.get(pattern, "string"))
+
+
+def _nest(flat: Mapping[str, Any]) -> dict[str, Any]:
+    root: dict[str, Any] = {}
+    for key, value in flat.items():
+        node = root
+        parts = key.split(".")
+        for part in parts[:-1]:
+            node = node.setdefault(part, {})
+        node[parts[-1]] = value
+    return root
+
+
+def _manager_findings(cfg: ControllersConfig, report: Any) -> None:
+    flat = _flatten(cfg.manager_parameters)
+    for key, value in flat.items():
+        removed = _REMOVED.get(("controller_manager", key))
+        if removed:
+            report("error", key, f"'{key}' {removed}")
+            continue
+        expected = CONTROLLER_MANAGER_PARAMETERS.get(key)
+        if expected is None:
+            report(
+                "warning", key,
+                f"the controller manager of Jazzy has no parameter '{key}'{_closest(key, CONTROLLER_MANAGER_PARAMETERS)}",
+            )
+        elif not isinstance(value, expected) or (expected is int and isinstance(value, bool)):
+            report("error", key, f"'{key}' must be of type {_type_name(expected)}, got {value!r}")
+    strictness = flat.get("defaults.switch_controller.strictness")
+    if strictness is not None and strictness not in ("strict", "best_effort"):
+        report("error", "defaults.switch_controller.strictness",
+               f"'{strictness}' is not a strictness (valid: strict, best_effort)")
+
+
+def _type_name(expected: type | tuple[type, ...]) -> str:
+    names = {"int": "integer", "float": "double", "bool": "bool", "str": "string", "list": "list"}
+    types = expected if isinstance(expected, tuple) else (expected,)
+    return " or ".join(names.get(t.__name__, t.__name__) for t in types)
+
+
+def _interfaces_of(infos: Sequence[Any]) -> tuple[set[str], set[str]]:
+    commands: set[str] = set()
+    states: set[str] = set()
+    for info in infos:
+        for component in [*info.joints, *info.sensors, *info.gpios]:
+            commands.update(f"{component.name}/{i.name}" for i in component.command_interfaces)
+            states.update(f"{component.name}/{i.name}" for i in component.state_interfaces)
+    return commands, states
+
+
+def _controller_interfaces(
+    cls: Any, name: str, values: Mapping[str, Any], urdf: str
+) -> tuple[list[str], list[str], list[str]]:
+    """Command, state and reference interface names the controller asks for once configured."""
+    from rrbot_workshop.controller_interface.base import ChainableControllerInterface, InterfaceConfigurationType
+    from rrbot_workshop.testing import ControllerHarness
+
+    controller = cls()
+    harness = ControllerHarness(controller, name, values, state_values={}, command_values={}, robot_description=urdf)
+    harness.configure()
+
+    def names(config: Any) -> list[str]:
+        if config is None or config.type is not InterfaceConfigurationType.INDIVIDUAL:
+            return []
+        return list(config.names)
+
+    references: list[str] = []
+    if isinstance(controller, ChainableControllerInterface):
+        references = [handle.name for handle in controller.export_reference_interfaces()]
+    return (
+        names(controller.command_interface_configuration()),
+        names(controller.state_interface_configuration()),
+        references,
+    )
+
+
+@contextlib.contextmanager
+def _quiet() -> Any:
+    """The library logs what it ignores while the checks run; the findings say it instead."""
+    logger = logging.getLogger("rrbot_workshop")
+    level = logger.level
+    logger.setLevel(logging.CRITICAL)
+    try:
+        yield
+    finally:
+        logger.setLevel(level)
+
+
+def lint_controllers(path: str | Path, description: str | Path | None = None,
+                     xacro_args: Mapping[str, Any] | None = None) -> list[Finding]:
+    """Check a controllers YAML, and, with ``description``, the interfaces its controllers use.
+
+    Args:
+        path: The controllers YAML file.
+        description: A URDF or xacro file whose ``<ros2_control>`` tags declare the interfaces, or None.
+        xacro_args: Arguments for the xacro file.
+
+    Returns:
+        Every finding, errors and warnings, in file order.
+    """
+    with _quiet():
+        return _lint_controllers(path, description, xacro_args)
+
+
+def _lint_controllers(path: str | Path, description: str | Path | None,
+                      xacro_args: Mapping[str, Any] | None) -> list[Finding]:
+    source = str(path)
+    try:
+        text = Path(path).read_text()
+    except OSError as exc:
+        return [Finding("error", source, 0, "file", f"cannot be read: {exc}")]
+    findings: list[Finding] = []
+    try:
+        yaml.safe_load(text)
+    except yaml.YAMLError as exc:
+        mark = getattr(exc, "problem_mark", None)
+        line = mark.line + 1 if mark is not None else 0
+        column = f", column {mark.column + 1}" if mark is not None else ""
+        problem = getattr(exc, "problem", None) or str(exc)
+        return [Finding("error", source, line, "YAML", f"does not parse (line {line}{column}): {problem}")]
+    try:
+        cfg = load_controllers_yaml(Path(path))
+    except ParameterError as exc:
+        return [Finding("error", source, 0, exc.parameter, str(exc))]
+    lines = _Lines(text)
+    manager_key = lines.node_key("controller_manager") or "controller_manager"
+
+    def at(node: str, *keys: str) -> Any:
+        node_key = lines.node_key(node) or node
+
+        def report(level: str, where: str, message: str) -> None:
+            path = [*keys, *where.split(".")] if where else list(keys)
+            line = lines.find(node_key, "ros__parameters", *path)
+            findings.append(Finding(level, source, line, ".".join([node, *path]), message))
+
+        return report
+
+    _manager_findings(cfg, at("controller_manager"))
+    known_types = plugins.available("controller")
+    classes: dict[str, Any] = {}
+    for name, ctype in cfg.controller_types.items():
+        report = at("controller_manager", name)
+        try:
+            classes[name] = plugins.resolve("controller", ctype)
+        except PluginNotFound:
+            report("error", "type", f"unknown controller type '{ctype}'{_closest(ctype, known_types)}")
+        except RRBotWorkshopError as exc:
+            report("error", "type", f"type '{ctype}' cannot be loaded: {exc}")
+    for node in cfg.controller_parameters:
+        if node != "/**" and node not in cfg.controller_types:
+            line = lines.find(lines.node_key(node) or node)
+            findings.append(Finding(
+                "warning", source, line, node,
+                f"parameters for '{node}', but '{manager_key}' declares no controller of that name with a 'type'"
+                f"{_closest(node, cfg.controller_types)}",
+            ))
+    infos: list[Any] = []
+    urdf: str | None = None
+    if description is not None:
+        urdf, infos, problems = _parse_description(description, xacro_args or {})
+        findings.extend(problems)
+    interfaces: dict[str, tuple[list[str], list[str], list[str]]] = {}
+    for name, cls in classes.items():
+        values = cfg.parameters_for(name)
+        schema_text = getattr(cls, "PARAMETERS", None)
+        if schema_text:
+            _check_parameters(name, cfg.controller_types[name], ParameterSchema(schema_text), values, at(name))
+        if urdf is not None:
+            try:
+                interfaces[name] = _controller_interfaces(cls, name, values, urdf)
+            except RRBotWorkshopError as exc:
+                if not any(f.level == "error" and f.where.startswith(f"{name}.") for f in findings):
+                    at(name)("error", "", f"cannot be configured with these parameters: {exc}")
+    if urdf is not None and description is not None:
+        findings.extend(_interface_findings(source, Path(description).name, infos, interfaces, lines))
+    return sorted(findings, key=lambda f: (f.line == 0, f.line))
+
+
+def _interface_findings(source: str, description: str, infos: Sequence[Any],
+                        interfaces: Mapping[str, tuple[list[str], list[str], list[str]]], lines: _Lines) -> list[Finding]:
+    commands, states = _interfaces_of(infos)
+    references = {ref for (_, _, refs) in interfaces.values() for ref in refs}
+    out = []
+    for name, (cmds, sts, _) in interfaces.items():
+        line = lines.find(lines.node_key(name) or name)
+        for itf in cmds:
+            if itf not in commands and itf not in references:
+                out.append(Finding("error", source, line, name,
+                                   f"claims command interface '{itf}', which {description} does not declare"
+                                   f"{_closest(itf, commands | references)}"))
+        for itf in sts:
+            if itf not in states:
+                out.append(Finding("error", source, line, name,
+                                   f"reads state interface '{itf}', which {description} does not declare"
+                                   f"{_closest(itf, states)}"))
+    return out
+
+
+def _parse_description(
+    description: str | Path, xacro_args: Mapping[str, Any]
+) -> tuple[str | None, list[Any], list[Finding]]:
+    """URDF text and hardware infos of a description, or the finding that says why it cannot be read."""
+    from rrbot_workshop.description import parse_ros2_control, process_xacro
+
+    source = str(description)
+    try:
+        urdf = process_xacro(description, **xacro_args)
+        return urdf, parse_ros2_control(urdf, source=source), []
+    except DescriptionError as exc:
+        return None, [], [Finding("error", source, 0, exc.element or "description", str(exc))]
+
+
+def lint_description(path: str | Path, xacro_args: Mapping[str, Any] | None = None) -> list[Finding]:
+    """Check a URDF or xacro file's ``<ros2_control>`` tags as ros2_control's parser does."""
+    return _parse_description(path, xacro_args or {})[2]
+
+
+def format_findings(findings: Sequence[Finding]) -> str:
+    """One line per finding and a closing count, as a linter prints them."""
+    errors = sum(f.level == "error" for f in findings)
+    warnings = sum(f.level == "warning" for f in findings)
+    body = "\n".join(str(f) for f in findings)
+    tail = f"{errors} error(s), {warnings} warning(s)" if errors or warnings else "no problems found"
+    return f"{body}\n{tail}" if body else tail
