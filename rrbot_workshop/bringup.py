@@ -165,6 +165,74 @@ class System:
         """Call a service (e.g. ``"/controller_manager/list_controllers"``) and return its response."""
         return self.bus.call_service(name, request if request is not None else {})
 
+    # ----------------------------------------------------------------- spawner
+    def spawn(
+        self,
+        controllers: Iterable[str],
+        *,
+        inactive: bool = False,
+        activate_as_group: bool = False,
+        load_only: bool = False,
+    ) -> None:
+        """Start controllers on the running system, as ``ros2 run controller_manager spawner`` does.
+
+        For each controller in order: load it (a controller already loaded is not loaded again; a warning
+        says so), configure it, and activate it with a strict switch of its own. ``activate_as_group``
+        activates them all in one strict switch after every one is configured (use it for a chain, whose
+        members must become active together); ``inactive`` stops after configure, ``load_only`` after load.
+
+        Args:
+            controllers: Controller names, declared in the controllers YAML.
+            inactive: Configure but do not activate (``--inactive``).
+            activate_as_group: One switch for all (``--activate-as-group``).
+            load_only: Load only (``--load-only``).
+
+        Raises:
+            ControllerNotFound: If a name is not declared in the controllers YAML.
+            ControllerError: If loading or configuring fails (the spawner's exit code 1).
+            SwitchError: If an activation is rejected; controllers spawned before it stay as they are,
+                as with separate spawner calls.
+        """
+        self._check_running()
+        names = list(controllers)
+        if inactive and activate_as_group:
+            raise ParameterError("spawn", "inactive/activate_as_group", "choose one: they contradict each other")
+        cm = self.controller_manager
+        for name in names:
+            if name in cm.controllers:
+                _log.warning("spawner: controller '%s' is already loaded, skipping load_controller", name)
+            else:
+                cm.load_controller(name)
+            if load_only:
+                continue
+            if cm.controllers[name].state is not State.ACTIVE:
+                cm.configure_controller(name)
+            if not inactive and not activate_as_group:
+                cm.switch_controllers(activate=[name], strictness="strict")
+        if activate_as_group and not load_only:
+            cm.switch_controllers(activate=names, strictness="strict")
+
+    def unspawn(self, controllers: Iterable[str]) -> None:
+        """Stop and unload controllers, as ``ros2 run controller_manager unspawner`` does.
+
+        Each active controller is deactivated (one strict switch for all, so a chain can stop together),
+        then each is unloaded.
+
+        Raises:
+            ControllerNotFound: If a name is not loaded.
+            SwitchError: If the deactivation is rejected (nothing is unloaded then).
+        """
+        self._check_running()
+        names = list(controllers)
+        cm = self.controller_manager
+        for name in names:
+            cm.get_controller(name)  # raises ControllerNotFound with the loaded names
+        active = [n for n in names if cm.controllers[n].state is State.ACTIVE]
+        if active:
+            cm.switch_controllers(deactivate=active, strictness="strict")
+        for name in names:
+            cm.unload_controller(name)
+
     # ----------------------------------------------------------------- end
     def shutdown(self) -> None:
         """Deactivate and unload controllers, shut the hardware down. Safe to call more than once."""
