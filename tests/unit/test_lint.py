@@ -43,10 +43,15 @@ def _errors(findings: list[Finding]) -> list[str]:
     ("rrbot_chained_controllers.yaml", {}),
     ("rrbot_sim_position_controllers.yaml", {"sim_mujoco": "true"}),
     ("rrbot_sim_effort_controllers.yaml", {"sim_mujoco": "true"}),
+    ("../../diffbot/config/diffbot_controllers.yaml", {}),
+    ("../../rrbot_on_diffbot/config/rrbot_on_diffbot_controllers.yaml", {}),
+    ("../../multi_rrbot/config/multi_rrbot_controllers.yaml", {}),
 ])
 def test_course_configurations_have_no_errors_or_warnings(name: str, args: dict[str, str]) -> None:
     """The YAML files the course ships load on Jazzy as they are (notes about changed defaults aside)."""
-    findings = lint_controllers(CONFIG / name, description=RRBOT, xacro_args=args)
+    package = name.split("/")[2] if name.startswith("..") else "rrbot"
+    description = REPO / "descriptions" / package / "urdf" / f"{package}.urdf.xacro"
+    findings = lint_controllers(CONFIG / name, description=description, xacro_args=args)
     assert [f for f in findings if f.level != "note"] == []
 
 
