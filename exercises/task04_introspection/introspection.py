@@ -32,7 +32,6 @@ printed, compared and graded.
 
 from __future__ import annotations
 
-import re  # noqa: F401 - for task 4.6
 from typing import Any
 
 from rrbot_workshop.controller_manager.manager import ControllerManager
@@ -177,15 +176,9 @@ def activate_all_at_once(target: Any) -> dict[str, list[str]]:
         ``{"interfaces": [...], "controllers": [...]}``: the command interfaces and the controllers that
         the rejection names, each sorted. Both lists are empty if the switch went through.
     """
-    # TODO(task 4.6): 1. collect the names of the controllers whose state is "inactive" (controller_states helps);
-    #   2. call cm.switch_controllers(activate=those, strictness="strict") inside try/except SwitchError
-    #      (from rrbot_workshop.exceptions; it is also rw.SwitchError). If no error is raised, return empty lists.
-    #   3. The error's .reasons is a list of strings that quote every name at fault, e.g.
-    #      "controllers 'a' and 'b' both claim command interface 'joint1/position'; ...".
-    #      re.findall(r"'([^']+)'", reason) pulls out the quoted names. Keep those that are command interfaces
-    #      (names in cm.list_hardware_interfaces().command_interfaces) and those that are loaded controllers,
-    #      and return both sets sorted. A rejected switch changes nothing: check it with controller_states before
-    #      and after.
+    # TODO(task 4.6): ask for every "inactive" controller in ONE strict switch and catch the SwitchError
+    #   (rw.SwitchError). A rejection is data, not just text: look at what the exception object carries
+    #   (help(SwitchError)) rather than parsing its message. If nothing is raised, both lists are empty.
     raise NotImplementedError("TODO(task 4.6): try the switch, catch SwitchError, return the names it quotes")
 
 

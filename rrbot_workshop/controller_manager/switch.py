@@ -103,12 +103,12 @@ class SwitchRequest:
         if unknown:
             lines = [f"controller '{n}' is not loaded (loaded: {sorted(loaded) or 'none'})" for n in _dedupe(unknown)]
             if self.strict:
-                raise SwitchError(lines)
+                raise SwitchError(lines, controllers=unknown)
             self.skipped += lines
             self.activate = [n for n in self.activate if n in loaded]
             self.deactivate = [n for n in self.deactivate if n in loaded]
             if not self.activate and not self.deactivate:
-                raise SwitchError(lines)
+                raise SwitchError(lines, controllers=unknown)
 
         # steps 3-4, repeated until no best-effort drop changes the picture
         while True:
@@ -133,7 +133,7 @@ class SwitchRequest:
                 break
             all_reasons = [r for rs in problems.values() for r in rs]
             if self.strict:
-                raise SwitchError(all_reasons)
+                raise SwitchError(all_reasons, controllers=list(problems))
             self.skipped += all_reasons
             self.activate = [n for n in self.activate if n not in problems]
             self.deactivate = [n for n in self.deactivate if n not in problems]
@@ -165,6 +165,8 @@ class SwitchRequest:
             coming_cmd |= set(self.rm.get_controller_reference_interface_names(a))
             coming_state |= set(self.rm.get_controller_exported_state_interface_names(a))
         reasons: list[str] = []
+        involved: list[str] = []  # controllers the reasons are about
+        interfaces: list[str] = []  # interfaces the reasons are about
         requested: dict[str, str] = {}
         for a in self.activate:
             spec = self.cm.controllers[a]
@@ -174,20 +176,28 @@ class SwitchRequest:
                         f"controller '{a}' needs command interface '{itf}', which does not exist "
                         f"(available: {self.rm.available_command_interfaces()})"
                     )
+                    involved.append(a)
+                    interfaces.append(itf)
                     continue
                 if not ((self.rm.command_interface_is_available(itf) and itf not in lost) or itf in coming_cmd):
                     reasons.append(f"controller '{a}' needs command interface '{itf}', which is not available{self._why(itf)}")
+                    involved.append(a)
+                    interfaces.append(itf)
                 holder = self.rm.command_interface_holder(itf)
                 if holder is not None and holder not in self.deactivate:
                     reasons.append(
                         f"command interface '{itf}' is already claimed by '{holder or 'someone'}'; '{a}' cannot claim "
                         f"it unless '{holder}' is deactivated in the same switch"
                     )
+                    involved += [a, holder] if holder else [a]
+                    interfaces.append(itf)
                 if itf in requested:
                     reasons.append(
                         f"controllers '{requested[itf]}' and '{a}' both claim command interface '{itf}'; "
                         "a command interface can have one owner only"
                     )
+                    involved += [requested[itf], a]
+                    interfaces.append(itf)
                 requested.setdefault(itf, a)
             for itf in self.cm.state_interface_names(spec):
                 if not self.rm.state_interface_exists(itf):
@@ -195,10 +205,14 @@ class SwitchRequest:
                         f"controller '{a}' needs state interface '{itf}', which does not exist "
                         f"(available: {self.rm.available_state_interfaces()})"
                     )
+                    involved.append(a)
+                    interfaces.append(itf)
                 elif not ((self.rm.state_interface_is_available(itf) and itf not in lost) or itf in coming_state):
                     reasons.append(f"controller '{a}' needs state interface '{itf}', which is not available{self._why(itf)}")
+                    involved.append(a)
+                    interfaces.append(itf)
         if reasons:
-            raise SwitchError(reasons)
+            raise SwitchError(reasons, controllers=involved, interfaces=interfaces)
 
     def _why(self, itf: str) -> str:
         hw = self.rm.hardware_of_interface(itf)

@@ -1,1 +1,9 @@
-"""The course around the library: tracks (exercises or solutions), grading, the notebook magics, the CLI."""
+"""The course around the library: tracks (exercises or solutions), grading, the notebook magics, the CLI.
+
+The names below are what notebook cells use to reach the learner's files (``rw.course.load_module(3,
+"answers.py")``); see :mod:`rrbot_workshop.course.learner`.
+"""
+
+from rrbot_workshop.course.learner import ask, function, load_module, short_error, task_file
+
+__all__ = ["ask", "function", "load_module", "short_error", "task_file"]

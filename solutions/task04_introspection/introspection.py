@@ -26,7 +26,6 @@ printed, compared and graded.
 
 from __future__ import annotations
 
-import re
 from typing import Any
 
 from rrbot_workshop.controller_manager.manager import ControllerManager
@@ -162,15 +161,9 @@ def activate_all_at_once(target: Any) -> dict[str, list[str]]:
     try:
         cm.switch_controllers(activate=inactive, strictness="strict")
     except SwitchError as error:
-        reasons = error.reasons
-    else:
-        return {"interfaces": [], "controllers": []}
-    quoted = {name for reason in reasons for name in re.findall(r"'([^']+)'", reason)}
-    command_interfaces = {i.name for i in cm.list_hardware_interfaces().command_interfaces}
-    return {
-        "interfaces": sorted(quoted & command_interfaces),
-        "controllers": sorted(quoted & set(loaded_controllers(cm))),
-    }
+        # The rejection carries its data: no need to parse the English of error.reasons.
+        return {"interfaces": sorted(error.interfaces), "controllers": sorted(error.controllers)}
+    return {"interfaces": [], "controllers": []}
 
 
 def interfaces_in_use(target: Any) -> dict[str, dict[str, list[str]]]:

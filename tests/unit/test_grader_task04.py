@@ -76,11 +76,12 @@ def test_activating_one_by_one_fails_the_unchanged_check(tmp_path: Path) -> None
     root = _mutated(
         tmp_path,
         '    try:\n        cm.switch_controllers(activate=inactive, strictness="strict")\n'
-        "    except SwitchError as error:\n        reasons = error.reasons\n"
-        '    else:\n        return {"interfaces": [], "controllers": []}\n',
-        "    reasons = []\n    for name in inactive:\n        try:\n"
+        "    except SwitchError as error:\n",
+        "    interfaces: list[str] = []\n    controllers: list[str] = []\n    for name in inactive:\n        try:\n"
         "            cm.switch_controllers(activate=[name])\n"
-        "        except SwitchError as error:\n            reasons += error.reasons\n",
+        "        except SwitchError as error:\n            interfaces += error.interfaces\n"
+        "            controllers += error.controllers\n"
+        "    if interfaces:\n        error = SwitchError([], interfaces=interfaces, controllers=controllers)\n",
     )
     rubric = grade(4, task_root=root)
     assert _failed(rubric) == {"conflict_leaves_system_unchanged"}, rubric.format()

@@ -1,0 +1,120 @@
+"""The learner's files, as a notebook cell uses them: found on the current track, loaded fresh, never fatal.
+
+A notebook cell should be about ros2_control, not about importlib. These helpers load a task's Python file
+from the current track (``exercises/`` by default), call the functions the learner writes, and turn any
+failure into one short, readable message instead of a traceback through the library::
+
+    answers = rw.course.load_module(3, "answers.py")          # None (and a message) if it does not import
+    rw.course.ask(answers, "roles_of", "rrbot_description.urdf.xacro")
+    start_rrbot = rw.course.function(2, "rrbot_bringup/bringup.py", "start_rrbot")
+
+Each load re-reads the file from disk, so a learner edits, saves and re-runs the cell.
+"""
+
+from __future__ import annotations
+
+import pprint
+import sys
+import traceback
+from collections.abc import Callable
+from pathlib import Path
+from types import ModuleType
+from typing import Any
+
+from rrbot_workshop.course import tracks
+
+__all__ = ["task_file", "load_module", "function", "ask", "short_error"]
+
+
+def task_file(task: int, relpath: str, track: str | None = None) -> Path:
+    """Path of ``relpath`` inside task ``task``'s folder on ``track`` (default: the current track)."""
+    return tracks.task_dir(task, track) / relpath
+
+
+def short_error(exc: BaseException, path: Path | None = None) -> str:
+    """One line for ``exc`` and, when the error is in the learner's file ``path``, where in it.
+
+    Frames inside the library, importlib and Python are left out: the learner sees their own line.
+    """
+    text = f"{type(exc).__name__}: {exc}"
+    if isinstance(exc, SyntaxError) and exc.filename and exc.lineno:
+        return f"{text} ({Path(exc.filename).name}, line {exc.lineno})"
+    if path is not None:
+        frames = [f for f in traceback.extract_tb(exc.__traceback__) if Path(f.filename) == path]
+        if frames:
+            last = frames[-1]
+            code = f": {last.line.strip()}" if last.line else ""
+            return f"{text} (in {path.name}, line {last.lineno}{code})"
+    return text
+
+
+def load_module(task: int, relpath: str, *, track: str | None = None, quiet: bool = False) -> ModuleType | None:
+    """Import the learner's ``relpath`` of ``task`` afresh, or return ``None`` and say why.
+
+    Args:
+        task: Task number.
+        relpath: File inside the task folder, e.g. ``"answers.py"`` or ``"rrbot_bringup/bringup.py"``.
+        track: ``"exercises"`` or ``"solutions"``; default the current track.
+        quiet: Do not print anything when the file cannot be imported.
+
+    Returns:
+        The module, or ``None`` when the file is missing or raises while importing (a half-written file is
+        normal while working on a task; the message tells what to fix).
+    """
+    path = task_file(task, relpath, track)
+    if not path.is_file():
+        if not quiet:
+            print(f"{relpath} is not in task {task}'s folder ({path.parent}); run `rrbot-workshop reset {task}`?")
+        return None
+    name = f"rrbot_workshop_learner_task{task:02d}_{Path(relpath).with_suffix('').as_posix().replace('/', '_')}"
+    try:
+        return tracks._import_file(path, name)
+    except Exception as exc:  # noqa: BLE001 - any error in a learner's file means "not usable yet"
+        if not quiet:
+            print(f"{relpath} cannot be imported yet ({short_error(exc, path)}); fix it, save and run this cell again.")
+        return None
+    finally:
+        sys.modules.pop(name, None)
+
+
+def function(task: int, relpath: str, name: str, *, track: str | None = None) -> Callable[..., Any] | None:
+    """The function ``name`` from the learner's file, or ``None`` (with a message) if it is not usable yet."""
+    module = load_module(task, relpath, track=track)
+    if module is None:
+        return None
+    fn = getattr(module, name, None)
+    if not callable(fn):
+        print(f"{relpath} has no function {name}() yet.")
+        return None
+    return fn
+
+
+def ask(module: ModuleType | None, question: str, *args: Any, show: bool = True, default: Any = None) -> Any:
+    """Call the learner's ``question(*args)`` from ``module`` and print the answer; never raises.
+
+    ``NotImplementedError`` reads "not written yet"; any other exception one short line. Returns the answer,
+    or ``default`` when there is none.
+    """
+    if module is None:
+        if show:
+            print(f"{question}: the file does not load yet")
+        return default
+    fn = getattr(module, question, None)
+    if not callable(fn):
+        if show:
+            print(f"{question}: not defined in {Path(module.__file__ or '?').name}")
+        return default
+    try:
+        answer = fn(*args)
+    except NotImplementedError as exc:
+        if show:
+            print(f"{question}: not written yet" + (f" ({exc})" if str(exc) else ""))
+        return default
+    except Exception as exc:  # noqa: BLE001 - a half-written answer must not stop the notebook
+        path = Path(module.__file__) if module.__file__ else None
+        if show:
+            print(f"{question}: raised {short_error(exc, path)}")
+        return default
+    if show:
+        print(f"{question}:", pprint.pformat(answer, compact=True, width=110))
+    return answer
