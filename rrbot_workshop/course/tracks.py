@@ -121,7 +121,7 @@ def course_root() -> Path:
     for candidate in (cwd, *cwd.parents):
         if _is_course(candidate):
             return candidate
-    package_parent = Path(__file__).resolve().parents[1]
+    package_parent = Path(__file__).resolve().parents[2]  # course/ -> rrbot_workshop/ -> the checkout
     if _is_course(package_parent):
         return package_parent
     raise CourseError(
