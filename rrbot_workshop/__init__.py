@@ -74,6 +74,7 @@ _SUBMODULES = {
     "control_toolbox": "control_toolbox",
     "msgs": "msgs",
     "motion": "motion",
+    "tuning": "tuning",
     "viz": "viz",
     "course": "course",
     "testing": "testing",

@@ -21,16 +21,33 @@ if TYPE_CHECKING:
 __all__ = ["followers", "preceding", "dependency_order", "check_activation", "check_deactivation"]
 
 
+def _names_for_chaining(cm: ControllerManager, spec: object, kind: str) -> list[str]:
+    """The interfaces a controller *names*: chain links come from these only.
+
+    As in Jazzy (``get_following_controller_names`` reads ``interface_configuration().names``), a controller
+    configured for ``ALL`` interfaces, such as the joint state broadcaster, names none, so it never precedes a
+    chainable controller even when it reads that controller's exported states.
+    """
+    controller = spec.controller  # type: ignore[attr-defined]
+    try:
+        cfg = controller.command_interface_configuration() if kind == "command" else controller.state_interface_configuration()
+    except Exception:  # noqa: BLE001 - reported where the interfaces are resolved
+        return []
+    if cfg.type in (InterfaceConfigurationType.ALL, InterfaceConfigurationType.NONE):
+        return []
+    return cm.command_interface_names(spec) if kind == "command" else cm.state_interface_names(spec)  # type: ignore[arg-type]
+
+
 def followers(cm: ControllerManager, name: str) -> list[tuple[str, str, str]]:
     """``(follower, interface, "reference"|"state")`` for each exported interface controller ``name`` uses."""
     rm = cm.resource_manager
     spec = cm.controllers[name]
     out = []
-    for itf in cm.command_interface_names(spec):
+    for itf in _names_for_chaining(cm, spec, "command"):
         owner = rm.controller_of_interface(itf)
         if owner is not None and owner != name and itf in rm.get_controller_reference_interface_names(owner):
             out.append((owner, itf, "reference"))
-    for itf in cm.state_interface_names(spec):
+    for itf in _names_for_chaining(cm, spec, "state"):
         owner = rm.controller_of_interface(itf)
         if owner is not None and owner != name and itf in rm.get_controller_exported_state_interface_names(owner):
             out.append((owner, itf, "state"))
@@ -46,10 +63,10 @@ def preceding(cm: ControllerManager, name: str) -> list[tuple[str, str]]:
     for other, spec in cm.controllers.items():
         if other == name or spec.state not in (State.INACTIVE, State.ACTIVE):
             continue
-        for itf in cm.command_interface_names(spec):
+        for itf in _names_for_chaining(cm, spec, "command"):
             if itf in refs:
                 out.append((other, itf))
-        for itf in cm.state_interface_names(spec):
+        for itf in _names_for_chaining(cm, spec, "state"):
             if itf in exps:
                 out.append((other, itf))
     return out

@@ -137,3 +137,21 @@ def test_cleanup_removes_exported_interfaces() -> None:
     cm.cleanup_controller("pid")
     assert not cm.resource_manager.command_interface_exists("pid/joint1/position")
     assert cm.list_controllers()[0].name in ("pre", "other", "pid")
+
+
+def test_a_broadcaster_reading_all_interfaces_is_not_a_preceding_controller() -> None:
+    """The joint state broadcaster (ALL state interfaces) reads the PIDs' exported states but does not chain to them
+    (Jazzy builds chains from the names a controller lists): the PIDs can stop while it keeps running."""
+    from rrbot_workshop.bringup import bringup
+
+    system = bringup("rrbot", "rrbot_sim_effort_controllers.yaml", xacro_args={"sim_mujoco": True},
+                     spawn=["joint_state_broadcaster", "pid_controller_joint1", "pid_controller_joint2"])
+    try:
+        cm = system.controller_manager
+        system.spin(seconds=0.05)
+        cm.switch_controllers(deactivate=["pid_controller_joint1", "pid_controller_joint2"], strictness="strict")
+        states = {c.name: c.state for c in cm.list_controllers()}
+        assert states == {"joint_state_broadcaster": "active", "pid_controller_joint1": "inactive",
+                          "pid_controller_joint2": "inactive"}
+    finally:
+        system.shutdown()
