@@ -121,10 +121,14 @@ def _cmd_reset(args: argparse.Namespace) -> int:
 
 
 def _cmd_export(args: argparse.Namespace) -> int:
-    from rrbot_workshop.course.grading.course import export_student_copy
+    from rrbot_workshop.course.grading.course import export_student_copy, uncommitted_changes
 
+    left_out = uncommitted_changes(tracks.course_root())
     target = export_student_copy(args.student)
-    print(f"Wrote a student copy of the course (without solutions/) to {target}")
+    print(f"Wrote a student copy of the course as committed (without solutions/) to {target}")
+    if left_out:
+        print(f"Not in the copy: uncommitted changes to {len(left_out)} file(s), e.g. {', '.join(left_out[:3])}; "
+              "commit them first if learners should get them.")
     return 0
 
 

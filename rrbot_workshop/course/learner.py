@@ -13,6 +13,7 @@ Each load re-reads the file from disk, so a learner edits, saves and re-runs the
 
 from __future__ import annotations
 
+import os
 import pprint
 import sys
 import traceback
@@ -23,12 +24,26 @@ from typing import Any
 
 from rrbot_workshop.course import tracks
 
-__all__ = ["task_file", "load_module", "function", "ask", "short_error"]
+__all__ = ["task_file", "shown", "load_module", "function", "ask", "short_error"]
 
 
 def task_file(task: int, relpath: str, track: str | None = None) -> Path:
     """Path of ``relpath`` inside task ``task``'s folder on ``track`` (default: the current track)."""
     return tracks.task_dir(task, track) / relpath
+
+
+def shown(path: Path) -> str:
+    """``path`` as the learner knows it: relative to the course folder (``exercises/task02_.../bringup.py``).
+
+    The same text whatever folder the track really reads (the test command may point the exercises track at a
+    temporary copy), so a notebook's output does not depend on it.
+    """
+    path = Path(path).resolve()
+    exercises = os.environ.get(tracks.EXERCISES_ENV)
+    if exercises and path.is_relative_to(Path(exercises).resolve()):
+        return (Path("exercises") / path.relative_to(Path(exercises).resolve())).as_posix()
+    root = tracks.course_root()
+    return path.relative_to(root).as_posix() if path.is_relative_to(root) else path.as_posix()
 
 
 def short_error(exc: BaseException, path: Path | None = None) -> str:

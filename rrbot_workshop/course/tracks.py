@@ -33,6 +33,7 @@ __all__ = [
     "TRACK_ENV",
     "ROOT_ENV",
     "TASK_ROOT_ENV",
+    "EXERCISES_ENV",
     "TrackPlugin",
     "TRACK_PLUGINS",
     "current_track",
@@ -56,6 +57,9 @@ ROOT_ENV = "RRBOT_WORKSHOP_ROOT"
 #: Environment variable that points at a folder of ``taskNN_*`` folders used instead of the track's folder
 #: (to grade a copy, e.g. an instructor grading a learner's upload).
 TASK_ROOT_ENV = "RRBOT_WORKSHOP_TASK_ROOT"
+#: Environment variable that points at a folder used as the ``exercises`` track instead of ``exercises/`` (the course's
+#: test command points it at the exercises as committed, so tests see them untouched whatever the learner changed).
+EXERCISES_ENV = "RRBOT_WORKSHOP_EXERCISES"
 
 _TASK_RE = re.compile(r"^task(\d{2})_([A-Za-z0-9_]+)$")
 _GRADER_RE = re.compile(r"^test_task(\d{2})_([A-Za-z0-9_]+)\.py$")
@@ -168,7 +172,8 @@ def task_dir(task: int, track: str | None = None) -> Path:
     """Folder of a task's files on a track, e.g. ``exercises/task01_description``.
 
     If ``$RRBOT_WORKSHOP_TASK_ROOT`` is set, the task folder is looked up there instead (the track does not
-    matter then): this grades a copy of the files.
+    matter then): this grades a copy of the files. ``$RRBOT_WORKSHOP_EXERCISES`` replaces the ``exercises/`` folder
+    of the exercises track only (the test command points it at the exercises as committed).
 
     Args:
         task: Task number (1-12).
@@ -182,6 +187,9 @@ def task_dir(task: int, track: str | None = None) -> Path:
     if override:
         return Path(override).expanduser().resolve() / name
     chosen = _check_track(track, "task_dir()") if track is not None else current_track()
+    exercises = os.environ.get(EXERCISES_ENV)
+    if chosen == "exercises" and exercises:
+        return Path(exercises).expanduser().resolve() / name
     folder = course_root() / chosen
     if not folder.is_dir():
         raise CourseError(

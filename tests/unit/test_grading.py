@@ -70,6 +70,7 @@ def course(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
     monkeypatch.setenv(tracks.ROOT_ENV, str(root))
     monkeypatch.delenv(tracks.TRACK_ENV, raising=False)
     monkeypatch.delenv(tracks.TASK_ROOT_ENV, raising=False)
+    monkeypatch.delenv(tracks.EXERCISES_ENV, raising=False)
     tracks.set_track(None)
     return root
 
@@ -85,6 +86,7 @@ def solved(tmp_path_factory: pytest.TempPathFactory) -> Rubric:
     with pytest.MonkeyPatch.context() as mp:
         mp.setenv(tracks.ROOT_ENV, str(root))
         mp.delenv(tracks.TASK_ROOT_ENV, raising=False)
+        mp.delenv(tracks.EXERCISES_ENV, raising=False)
         return grade(5, track="solutions", check_timeout=1.0)
 
 

@@ -15,6 +15,8 @@ from rrbot_workshop.exceptions import CourseError
 
 @pytest.fixture
 def solutions_track():  # noqa: ANN201
+    if not (tracks.course_root() / "solutions").is_dir():
+        pytest.skip("this copy of the course has no solutions/")
     tracks.set_track("solutions")
     yield
     tracks.set_track(None)

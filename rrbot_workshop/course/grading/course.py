@@ -1,8 +1,9 @@
 """The instructor's tools: restore an exercise (after backing up the learner's work) and hand out a course copy.
 
 The pristine version of ``exercises/taskNN_<name>/`` comes from git (``HEAD``) when the course is a git
-checkout that tracks it. A student copy made by :func:`export_student_copy` has no ``.git``; it carries the
-exercises as exported in ``.pristine/exercises.tar.gz`` instead, so ``rrbot-workshop reset`` works there too.
+checkout that tracks it. A student copy made by :func:`export_student_copy` is built from git ``HEAD`` and is a
+git repository of its own; it also carries the exercises in ``.pristine/exercises.tar.gz``, so
+``rrbot-workshop reset`` works in a copy whose ``.git`` was removed.
 """
 
 from __future__ import annotations
@@ -10,9 +11,11 @@ from __future__ import annotations
 import io
 import logging
 import os
+import re
 import shutil
 import subprocess
 import tarfile
+import zipfile
 from collections.abc import Callable
 from dataclasses import dataclass
 from datetime import datetime
@@ -22,7 +25,7 @@ from rrbot_workshop.course import tracks
 from rrbot_workshop.exceptions import CourseError
 
 __all__ = ["PRISTINE_ARCHIVE", "EXPORT_EXCLUDE", "ResetResult", "pristine_files", "reset_exercise",
-           "export_student_copy"]
+           "export_student_copy", "uncommitted_changes"]
 
 logger = logging.getLogger(__name__)
 
@@ -169,11 +172,43 @@ def _ignore(root: Path) -> Callable[[str, list[str]], set[str]]:
     return ignore
 
 
-def export_student_copy(dest: str | os.PathLike[str]) -> Path:
-    """Write a copy of the course for learners: no ``solutions/``, no ``.git``, no ``.venv``, no backups.
+def _git_snapshot(root: Path) -> dict[str, bytes] | None:
+    """Every file committed at ``HEAD`` (course-relative POSIX path -> bytes), or None without git or a commit."""
+    if shutil.which("git") is None or not (root / ".git").exists():
+        return None
+    result = _git(root, "archive", "--format=zip", "HEAD")
+    if result.returncode != 0:
+        return None
+    with zipfile.ZipFile(io.BytesIO(result.stdout)) as archive:
+        return {info.filename: archive.read(info) for info in archive.infolist() if not info.is_dir()}
 
-    The copy still grades (graders use the exercises track) and carries ``.pristine/exercises.tar.gz`` so
-    ``rrbot-workshop reset`` works in it.
+
+def uncommitted_changes(root: Path) -> list[str]:
+    """Tracked files of the course that differ from ``HEAD`` (they are not part of a student copy)."""
+    if shutil.which("git") is None or not (root / ".git").exists():
+        return []
+    result = _git(root, "status", "--porcelain", "--untracked-files=no")
+    return [line[3:] for line in result.stdout.decode(errors="replace").splitlines() if line.strip()]
+
+
+def _student_readme(text: str) -> str:
+    """The README without its instructor-only parts (between ``<!-- instructor -->`` and ``<!-- /instructor -->``)."""
+    return re.sub(r"<!-- instructor -->.*?<!-- /instructor -->\n?", "", text, flags=re.DOTALL)
+
+
+def _exported(rel: str) -> bool:
+    parts = PurePosixPath(rel).parts
+    return not (parts[0] in EXPORT_EXCLUDE_TOP or any(p in EXPORT_EXCLUDE or p.endswith(".egg-info") for p in parts))
+
+
+def export_student_copy(dest: str | os.PathLike[str]) -> Path:
+    """Write a copy of the course for learners, as released: the files committed at git ``HEAD``, no ``solutions/``.
+
+    The copy is built from git, never from the working tree, so an instructor's solved exercises or edits that are
+    not committed never reach learners (:func:`uncommitted_changes` lists what was left out). The README loses its
+    instructor-only parts. The copy is itself a git repository with one commit, so its own test command and
+    ``rrbot-workshop reset`` find the pristine exercises the same way; ``.pristine/exercises.tar.gz`` is kept for a
+    copy whose ``.git`` is removed. A course folder that is not a git checkout is copied as it is (with a warning).
 
     Args:
         dest: New folder (must not exist, or be empty, and must be outside the course folder).
@@ -190,7 +225,23 @@ def export_student_copy(dest: str | os.PathLike[str]) -> Path:
         raise CourseError("folder", str(target), f"the student copy must be outside the course folder '{root}'")
     if target.exists() and (not target.is_dir() or any(target.iterdir())):
         raise CourseError("folder", str(target), f"'{target}' exists and is not an empty folder")
-    shutil.copytree(root, target, ignore=_ignore(root), dirs_exist_ok=True)
+    snapshot = _git_snapshot(root)
+    if snapshot is None:
+        logger.warning("%s is not a git checkout: the student copy is made from the working tree", root)
+        shutil.copytree(root, target, ignore=_ignore(root), dirs_exist_ok=True)
+    else:
+        target.mkdir(parents=True, exist_ok=True)
+        for rel, data in snapshot.items():
+            if not _exported(rel):
+                continue
+            path = target / rel
+            path.parent.mkdir(parents=True, exist_ok=True)
+            path.write_bytes(data)
+            if rel in ("workshop", "workshop.py", ".ci/run"):
+                path.chmod(0o755)
+    readme = target / "README.md"
+    if readme.is_file():
+        readme.write_text(_student_readme(readme.read_text()))
     archive = target / PRISTINE_ARCHIVE
     archive.parent.mkdir(parents=True, exist_ok=True)
     buffer = io.BytesIO()
@@ -205,5 +256,21 @@ def export_student_copy(dest: str | os.PathLike[str]) -> Path:
                 info.mode = 0o644
                 tar.addfile(info, io.BytesIO(data))
     archive.write_bytes(buffer.getvalue())
+    if snapshot is not None:
+        _init_repository(target)
     logger.info("wrote a student copy of %s to %s", root, target)
     return target
+
+
+def _init_repository(target: Path) -> None:
+    """Make the copy a git repository with one commit of everything in it (best effort: git may be missing)."""
+    identity = {"GIT_AUTHOR_NAME": "rrbot_workshop", "GIT_AUTHOR_EMAIL": "course@rrbot-workshop.invalid",
+                "GIT_COMMITTER_NAME": "rrbot_workshop", "GIT_COMMITTER_EMAIL": "course@rrbot-workshop.invalid"}
+    env = {k: v for k, v in os.environ.items() if k not in ("GIT_DIR", "GIT_WORK_TREE", "GIT_INDEX_FILE")}
+    env.update(identity)
+    for args in (["init", "-q"], ["add", "-A"], ["commit", "-q", "-m", "rrbot_workshop course, student copy"]):
+        result = subprocess.run(["git", *args], cwd=target, env=env, capture_output=True, check=False)
+        if result.returncode != 0:
+            logger.warning("the student copy is not a git repository (git %s: %s)", args[0],
+                           result.stderr.decode(errors="replace").strip())
+            return

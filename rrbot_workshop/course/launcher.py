@@ -1,0 +1,242 @@
+"""The course's two commands, ``start`` and ``test``, on every platform, with the standard library only.
+
+``python workshop.py start|test`` (or ``./workshop start|test``, or ``python -m rrbot_workshop start|test`` once
+installed) runs this module. It must work before anything is installed, so it imports nothing outside the standard
+library and nothing from the package.
+
+How the learner's work and the course material are kept apart:
+
+* The learner edits the files in ``exercises/`` in place, in JupyterLab's file browser or any editor. Nothing else in
+  the course writes there (``rrbot-workshop reset`` backs the files up first).
+* The learner runs the notebooks from ``my_notebooks/``, git-ignored copies of ``notebooks/`` made by ``start``.
+  Saving a notebook (outputs, edits) never touches a tracked file, and a ``git pull`` of new course material never
+  meets a conflict there. When a course notebook changed since the copy was made, ``start`` puts the learner's copy
+  in ``my_notebooks/backups/<time>/`` before refreshing it.
+* ``test`` tests the course *as shipped*: the pristine exercises are taken from git (``HEAD``) into a temporary folder
+  and used wherever a test needs the untouched exercises (``RRBOT_WORKSHOP_EXERCISES``), so it passes whatever the
+  state of the learner's files.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import hashlib
+import io
+import json
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+import zipfile
+from collections.abc import Iterator, Sequence
+from pathlib import Path
+
+__all__ = ["main", "SUPPORTED", "refresh_notebook_copies", "pristine_exercises"]
+
+#: Python versions the course runs on (every pinned binary dependency ships wheels for them).
+SUPPORTED = ((3, 11), (3, 12), (3, 13))
+#: The kernel the notebooks name in their metadata (installed into the course's environment).
+KERNEL_NAME, KERNEL_DISPLAY_NAME = "python3", "Python 3 (rrbot_workshop)"
+EXERCISES_ENV = "RRBOT_WORKSHOP_EXERCISES"
+_WINDOWS = os.name == "nt"
+
+
+def _say(message: str) -> None:
+    print(f"[rrbot_workshop] {message}", flush=True)
+
+
+def _venv_python(venv: Path) -> Path:
+    return venv / ("Scripts/python.exe" if _WINDOWS else "bin/python")
+
+
+def _venv_bin(venv: Path) -> Path:
+    return venv / ("Scripts" if _WINDOWS else "bin")
+
+
+def _supported(version: tuple[int, int]) -> bool:
+    return version in SUPPORTED
+
+
+def _stamp(root: Path) -> str:
+    return hashlib.sha256((root / "pyproject.toml").read_bytes()).hexdigest()
+
+
+def setup(root: Path) -> Path:
+    """Create ``.venv`` and install the course into it on first use (or when pyproject.toml changed).
+
+    Returns:
+        The environment's Python.
+    """
+    venv = root / ".venv"
+    python = _venv_python(venv)
+    stamp_file = venv / ".installed"
+    want = _stamp(root)
+    if python.exists() and stamp_file.exists() and stamp_file.read_text().strip() == want:
+        return python
+    if not _supported(sys.version_info[:2]):
+        versions = ", ".join(f"{a}.{b}" for a, b in SUPPORTED)
+        raise SystemExit(f"rrbot_workshop needs Python {versions}; this is {sys.version.split()[0]} ({sys.executable}).")
+    if not python.exists():
+        _say(f"creating .venv with Python {sys.version.split()[0]}")
+        subprocess.run([sys.executable, "-m", "venv", str(venv)], check=True)
+    _say("installing rrbot_workshop and its pinned dependencies into .venv (the first time takes a few minutes)")
+    quiet = {"stdout": subprocess.PIPE, "stderr": subprocess.STDOUT, "text": True}
+    steps = [
+        [str(python), "-m", "pip", "install", "--quiet", "--disable-pip-version-check", "--upgrade", "pip"],
+        [str(python), "-m", "pip", "install", "--quiet", "--disable-pip-version-check", "-e", f"{root}[dev]"],
+        [str(python), "-m", "ipykernel", "install", "--prefix", str(venv), "--name", KERNEL_NAME,
+         "--display-name", KERNEL_DISPLAY_NAME],
+    ]
+    for step in steps:
+        result = subprocess.run(step, **quiet)  # type: ignore[call-overload]
+        if result.returncode != 0:
+            print(result.stdout, file=sys.stderr)
+            raise SystemExit(f"set-up failed: {' '.join(step[:5])} ... (exit {result.returncode})")
+    _quiet_jupyterlab(venv)
+    stamp_file.write_text(want)
+    _say("set-up done")
+    return python
+
+
+def _quiet_jupyterlab(venv: Path) -> None:
+    """No news and no update prompt in the course's JupyterLab (its settings overrides, inside .venv)."""
+    settings = venv / "share" / "jupyter" / "lab" / "settings"
+    settings.mkdir(parents=True, exist_ok=True)
+    overrides = {"@jupyterlab/apputils-extension:notification": {"checkForUpdates": False, "fetchNews": "false"}}
+    (settings / "overrides.json").write_text(json.dumps(overrides, indent=2) + "\n")
+
+
+# --------------------------------------------------------------------------------------------- notebook copies
+
+
+def _digest(path: Path) -> str:
+    return hashlib.sha256(path.read_bytes()).hexdigest()
+
+
+def refresh_notebook_copies(root: Path, now: float | None = None) -> list[str]:
+    """Copy ``notebooks/*.ipynb`` to ``my_notebooks/``; never overwrite a learner's copy without a backup.
+
+    A copy is made when it is missing. When the course's notebook changed since the copy was made, the learner's copy
+    is moved to ``my_notebooks/backups/<YYYYmmdd-HHMMSS>/`` first and a fresh copy takes its place.
+
+    Returns:
+        One line per notebook copied or refreshed (for the console).
+    """
+    source, target = root / "notebooks", root / "my_notebooks"
+    target.mkdir(exist_ok=True)
+    index_file = target / ".sources.json"
+    try:
+        index = json.loads(index_file.read_text())
+    except (OSError, ValueError):
+        index = {}
+    stamp = time.strftime("%Y%m%d-%H%M%S", time.localtime(now))
+    lines = []
+    for notebook in sorted(source.glob("[0-9][0-9]_*.ipynb")):
+        copy = target / notebook.name
+        digest = _digest(notebook)
+        if copy.exists() and index.get(notebook.name) == digest:
+            continue
+        if copy.exists():
+            backup = target / "backups" / stamp
+            backup.mkdir(parents=True, exist_ok=True)
+            shutil.move(str(copy), str(backup / notebook.name))
+            lines.append(f"{notebook.name}: the course updated it; your copy is in my_notebooks/backups/{stamp}/")
+        else:
+            lines.append(f"{notebook.name}: copied to my_notebooks/")
+        shutil.copy2(notebook, copy)
+        index[notebook.name] = digest
+    index_file.write_text(json.dumps(index, indent=1, sort_keys=True) + "\n")
+    return lines
+
+
+# --------------------------------------------------------------------------------------------- pristine exercises
+
+
+@contextlib.contextmanager
+def pristine_exercises(root: Path) -> Iterator[Path | None]:
+    """The ``exercises/`` folder as committed at ``HEAD``, extracted to a temporary folder.
+
+    Yields None (and the working tree is used) when the course is not a git checkout or git is missing.
+    """
+    if not (root / ".git").exists() or shutil.which("git") is None:
+        yield None
+        return
+    result = subprocess.run(["git", "archive", "--format=zip", "HEAD", "exercises"], cwd=root, capture_output=True)
+    if result.returncode != 0:
+        _say(f"git archive failed ({result.stderr.decode(errors='replace').strip()}); testing the working tree")
+        yield None
+        return
+    with tempfile.TemporaryDirectory(prefix="rrbot_pristine_") as folder:
+        zipfile.ZipFile(io.BytesIO(result.stdout)).extractall(folder)
+        yield Path(folder) / "exercises"
+
+
+# --------------------------------------------------------------------------------------------- commands
+
+
+def start(root: Path, args: Sequence[str]) -> int:
+    """Set up, refresh ``my_notebooks/`` and run JupyterLab on 127.0.0.1 at the course's root."""
+    python = setup(root)
+    for line in refresh_notebook_copies(root):
+        _say(line)
+    env = dict(os.environ)
+    env["PATH"] = str(_venv_bin(python.parent.parent)) + os.pathsep + env.get("PATH", "")  # rrbot-workshop in the terminal
+    env.setdefault("RRBOT_WORKSHOP_TRACK", "exercises")
+    command = [
+        str(python), "-m", "jupyterlab", "--ip=127.0.0.1", f"--ServerApp.root_dir={root}",
+        "--LabApp.default_url=/lab/tree/my_notebooks/00_intro.ipynb",
+        # learners work in my_notebooks/ (copies) and exercises/; the tracked notebooks stay out of sight
+        "--ContentsManager.hide_globs=['__pycache__', '*.pyc', '*.pyo', '.DS_Store', '*~', 'notebooks', 'backups']",
+    ]
+    if not _WINDOWS and hasattr(os, "geteuid") and os.geteuid() == 0:
+        command.append("--allow-root")  # containers and CI machines often run as root
+    if _WINDOWS:
+        return subprocess.call([*command, *args], env=env, cwd=root)
+    os.chdir(root)
+    os.execve(command[0], [*command, *args], env)  # JupyterLab takes this process's place: signals reach it directly
+
+
+def _pytest(python: Path, args: Sequence[str], env: dict[str, str], root: Path) -> int:
+    code = subprocess.call([str(python), "-m", "pytest", *args], env=env, cwd=root)
+    if code == 5:
+        print("No tests were collected: failing.", file=sys.stderr)
+        return 1
+    return code
+
+
+def test(root: Path, args: Sequence[str]) -> int:
+    """Set up and run every test: library, graders, and every notebook on both tracks."""
+    python = setup(root)
+    env = dict(os.environ)
+    with pristine_exercises(root) as exercises:
+        if exercises is not None:
+            env[EXERCISES_ENV] = str(exercises)
+        else:
+            _say("not a git checkout: testing exercises/ as it is (a learner's work may fail the graders' tests)")
+        if args:
+            return _pytest(python, args, env, root)
+        codes = [_pytest(python, ["-p", "no:cacheprovider"], env, root)]
+        notebooks = sorted(str(p.relative_to(root)) for p in (root / "notebooks").glob("[0-9][0-9]_*.ipynb"))
+        nbval = ["-p", "no:cacheprovider", "--nbval-current-env", "--nbval-sanitize-with",
+                 "notebooks/nbval_sanitize.cfg", *notebooks]
+        # the stored outputs are what a learner sees on the untouched exercises: compared exactly
+        codes.append(_pytest(python, ["--nbval", *nbval], {**env, "RRBOT_WORKSHOP_TRACK": "exercises"}, root))
+        if (root / "solutions").is_dir():  # the finished track must run top to bottom too (outputs differ)
+            codes.append(_pytest(python, ["--nbval-lax", *nbval], {**env, "RRBOT_WORKSHOP_TRACK": "solutions"}, root))
+    return next((code for code in codes if code != 0), 0)
+
+
+USAGE = "usage: python workshop.py start [jupyterlab options] | test [pytest options]"
+
+
+def main(argv: Sequence[str] | None = None, root: Path | None = None) -> int:
+    """Run ``start`` or ``test`` for the course at ``root`` (default: the folder above the package)."""
+    argv = list(sys.argv[1:] if argv is None else argv)
+    root = (root or Path(__file__).resolve().parents[2]).resolve()
+    if not argv or argv[0] not in ("start", "test"):
+        print(USAGE, file=sys.stderr)
+        return 2
+    command, rest = argv[0], argv[1:]
+    return start(root, rest) if command == "start" else test(root, rest)
