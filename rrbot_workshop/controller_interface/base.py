@@ -233,8 +233,12 @@ class ControllerInterface:
         return CallbackReturn.SUCCESS
 
     def on_error(self, previous_state: State) -> CallbackReturn:
-        """Recover from an error in a transition. SUCCESS -> unconfigured, else finalized. Default: failure."""
-        return CallbackReturn.FAILURE
+        """Recover from an error in a transition. SUCCESS -> unconfigured, else finalized.
+
+        Default: SUCCESS, as rclcpp_lifecycle's ``LifecycleNodeInterface::on_error``: a controller whose
+        ``on_activate`` fails ends ``unconfigured`` and can be configured again.
+        """
+        return CallbackReturn.SUCCESS
 
     def update(self, time: float, period: float) -> ReturnType:
         """Compute and write commands.

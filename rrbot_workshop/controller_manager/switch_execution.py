@@ -56,21 +56,29 @@ def execute(request: SwitchRequest) -> SwitchResult:
         if controllers[name].state is not State.ACTIVE:
             controllers[name].controller.set_chained_mode(False)  # type: ignore[attr-defined]
     failures: list[str] = []
+    failed: list[str] = []
+    changed_on_failure: list[str] = []  # a failed activation runs on_error: the controller leaves 'inactive'
     for name in dependency_order(cm, request.activate):  # exporters before the controllers that use them
         reason = activate_controller(rm, controllers[name])
         if reason:
             failures.append(reason)
+            failed.append(name)
+            if controllers[name].state is not State.INACTIVE:
+                changed_on_failure.append(name)
+                failures.append(f"controller '{name}' is now '{controllers[name].state.label}' (on_error ran after its "
+                                "failed activation); configure it again to use it")
             if request.strict:
                 break
         else:
             result.activated.append(name)
     if failures and request.strict:
         rollback(request, result, was_chained)
-        raise SwitchError(failures)
+        raise SwitchError(failures, partial=bool(changed_on_failure), controllers=failed)
     still_active = [d for d in request.deactivate if d not in request.activate and controllers[d].state is State.ACTIVE]
     failures += [f"controller '{d}' is still active after deactivation" for d in still_active]
     if failures:
-        raise SwitchError(failures, partial=bool(result.activated or result.deactivated))
+        raise SwitchError(failures, partial=bool(result.activated or result.deactivated or changed_on_failure),
+                          controllers=[*failed, *still_active])
     return result
 
 

@@ -90,10 +90,10 @@ class HardwareComponentInterface:
     def on_error(self, previous_state: State) -> CallbackReturn:
         """Recover after ``read``/``write`` or a transition failed.
 
-        Returning SUCCESS brings the component back to ``unconfigured``; anything else finalizes it. The
-        default, like rclcpp_lifecycle's, is FAILURE.
+        Returning SUCCESS brings the component back to ``unconfigured`` (it can be configured and activated again);
+        anything else finalizes it. The default is rclcpp_lifecycle's ``LifecycleNodeInterface::on_error``: SUCCESS.
         """
-        return CallbackReturn.FAILURE
+        return CallbackReturn.SUCCESS
 
     # ----------------------------------------------------------------- interfaces
     def _make_handles(self, components: Sequence[ComponentInfo], kind: str) -> list[Handle]:

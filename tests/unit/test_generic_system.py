@@ -371,12 +371,17 @@ def test_nan_command_is_skipped() -> None:
 
 @pytest.mark.parametrize("value", [math.inf, -math.inf])
 def test_infinite_mirrored_command_makes_read_error_and_component_leaves(value: float) -> None:
-    """±inf on a mirrored command: read returns ERROR, error() runs, on_error's default FAILURE finalizes."""
+    """±inf on a mirrored command: read returns ERROR, error() runs, and on_error's default (SUCCESS, as
+    rclcpp_lifecycle's) leaves the component UNCONFIGURED: it can be configured and activated again (Jazzy)."""
     m = Mock(standard())
     m.set(joint1__velocity=value)
     assert m.impl.read(TIME, PERIOD) is ReturnType.ERROR
     assert m.read() is ReturnType.ERROR
-    assert m.component.get_lifecycle_state() is State.FINALIZED
+    assert m.component.get_lifecycle_state() is State.UNCONFIGURED
+    m.set(joint1__velocity=0.0)
+    assert m.component.configure() is State.INACTIVE
+    assert m.component.activate() is State.ACTIVE
+    assert m.read() is ReturnType.OK
 
 
 def test_infinite_position_command_is_ignored_without_dynamics() -> None:

@@ -63,3 +63,24 @@ def test_unknown_target_state_label_raises_controller_error_listing_the_states()
     with pytest.raises(ControllerError, match="valid: .*inactive"):
         cm.set_controller_state("c", "running")
     assert {c.name: c.state for c in cm.list_controllers()} == {"c": "inactive"}
+
+
+@pytest.mark.parametrize("strictness", ["strict", "best_effort"])
+def test_failed_activation_ends_unconfigured_and_the_error_says_a_controller_changed(strictness: str) -> None:
+    """Jazzy: on_activate returning ERROR runs on_error, whose default (rclcpp_lifecycle's) returns SUCCESS, so the
+    controller ends UNCONFIGURED, not FINALIZED; it can be configured and activated again. The switch error names it
+    and does not claim that nothing changed. (ros2_control test_controller_manager.cpp, activation failure cases.)"""
+    from rrbot_workshop.exceptions import SwitchError
+
+    cm = make_cm({"c": {"command_interfaces": ["joint1/position"]}})
+    load_configure(cm, "c")
+    cm.get_controller("c").activate_result = CallbackReturn.ERROR  # type: ignore[attr-defined]
+    with pytest.raises(SwitchError) as info:
+        cm.switch_controllers(activate=["c"], strictness=strictness)
+    assert info.value.partial and "no controller changed state" not in str(info.value)
+    assert info.value.controllers == ["c"]
+    assert {c.name: c.state for c in cm.list_controllers()} == {"c": "unconfigured"}
+    cm.get_controller("c").activate_result = CallbackReturn.SUCCESS  # type: ignore[attr-defined]
+    cm.configure_controller("c")
+    cm.switch_controllers(activate=["c"], strictness="strict")
+    assert {c.name: c.state for c in cm.list_controllers()} == {"c": "active"}
