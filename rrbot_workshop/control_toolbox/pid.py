@@ -30,7 +30,7 @@ from rrbot_workshop.exceptions import ParameterError
 __all__ = ["ANTIWINDUP_STRATEGIES", "Gains", "Pid"]
 
 #: Valid values of ``antiwindup_strategy``.
-ANTIWINDUP_STRATEGIES = ("none", "back_calculation", "conditional_integration")
+ANTIWINDUP_STRATEGIES = ("legacy", "none", "back_calculation", "conditional_integration")
 
 _EPS = sys.float_info.epsilon
 _OWNER = "Pid"
@@ -56,9 +56,12 @@ class Gains:
         u_clamp_min: Lower limit of the output.
         i_clamp_max: Upper limit of the integral term (in output units).
         i_clamp_min: Lower limit of the integral term (in output units).
-        antiwindup_strategy: One of :data:`ANTIWINDUP_STRATEGIES`.
+        antiwindup_strategy: One of :data:`ANTIWINDUP_STRATEGIES`; ``"legacy"`` (Jazzy's default) integrates the
+            error first and uses the integral clamped to ``[i_clamp_min, i_clamp_max]`` in the same cycle.
         tracking_time_constant: Back-calculation time constant ``Tt`` in [s]; 0 picks the default rule.
         error_deadband: Errors with ``|e| <=`` this do not integrate.
+        antiwindup: Legacy strategy only (the deprecated boolean of Jazzy): also keep the stored integral within
+            the clamps, so it cannot wind up beyond them.
     """
 
     p: float = 0.0
@@ -68,9 +71,10 @@ class Gains:
     u_clamp_min: float = -math.inf
     i_clamp_max: float = math.inf
     i_clamp_min: float = -math.inf
-    antiwindup_strategy: str = "none"
+    antiwindup_strategy: str = "legacy"
     tracking_time_constant: float = 0.0
     error_deadband: float = _EPS
+    antiwindup: bool = False
 
     def validated(self) -> Gains:
         """Check the gains; return a copy with the default tracking time constant filled in.
@@ -138,9 +142,12 @@ class Pid:
         u_clamp_min: Lower limit of the output.
         i_clamp_max: Upper limit of the integral term.
         i_clamp_min: Lower limit of the integral term.
-        antiwindup_strategy: ``"none"``, ``"back_calculation"`` or ``"conditional_integration"``.
+        antiwindup_strategy: ``"legacy"`` (default, as Jazzy), ``"none"``, ``"back_calculation"`` or
+            ``"conditional_integration"``.
         tracking_time_constant: Back-calculation ``Tt`` in [s]; 0 means the default rule.
         error_deadband: No integration while ``|error| <=`` this.
+        antiwindup: With ``"legacy"``: keep the stored integral within the integral clamps (Jazzy's deprecated
+            ``antiwindup`` parameter).
 
     Raises:
         ParameterError: If the gains are invalid (see :meth:`Gains.validated`).
@@ -159,13 +166,14 @@ class Pid:
         u_clamp_min: float = -math.inf,
         i_clamp_max: float = math.inf,
         i_clamp_min: float = -math.inf,
-        antiwindup_strategy: str = "none",
+        antiwindup_strategy: str = "legacy",
         tracking_time_constant: float = 0.0,
         error_deadband: float = _EPS,
+        antiwindup: bool = False,
     ) -> None:
         self._gains = Gains(
             p, i, d, u_clamp_max, u_clamp_min, i_clamp_max, i_clamp_min, antiwindup_strategy,
-            tracking_time_constant, error_deadband,
+            tracking_time_constant, error_deadband, antiwindup,
         ).validated()
         self._i_term = 0.0
         self.reset()
@@ -280,6 +288,17 @@ class Pid:
         if not (math.isfinite(error) and math.isfinite(error_dot)):
             self._cmd = math.nan
             return self._cmd
+        if g.antiwindup_strategy == "legacy":
+            # Jazzy's default: integrate first, use the clamped integral in this very command.
+            if not _is_zero(error, g.error_deadband):
+                self._i_term += dt * g.i * error
+                if g.antiwindup:
+                    self._i_term = _clamp(self._i_term, g.i_clamp_min, g.i_clamp_max)
+            u_unsat = g.p * error + _clamp(self._i_term, g.i_clamp_min, g.i_clamp_max) + g.d * error_dot
+            u = _clamp(u_unsat, g.u_clamp_min, g.u_clamp_max)
+            self._cmd_unsat = u_unsat
+            self._cmd = u
+            return u
         u_unsat = g.p * error + self._i_term + g.d * error_dot
         u = _clamp(u_unsat, g.u_clamp_min, g.u_clamp_max)
         self._cmd_unsat = u_unsat

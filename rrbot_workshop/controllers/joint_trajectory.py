@@ -171,7 +171,8 @@ class JointTrajectoryController(ControllerInterface, FollowJointTrajectoryServer
                 g = p.gains.joints_map[p.joints[idx]]
                 try:
                     self._pids.append(Pid(g.p, g.i, g.d, g.u_clamp_max, g.u_clamp_min, g.i_clamp_max,
-                                          g.i_clamp_min, g.antiwindup_strategy, g.tracking_time_constant))
+                                          g.i_clamp_min, g.antiwindup_strategy, g.tracking_time_constant,
+                                          antiwindup=g.antiwindup))
                 except ParameterError as exc:
                     self.logger.error("'%s': gains of '%s': %s", self.get_name(), p.joints[idx], exc)
                     return CallbackReturn.FAILURE

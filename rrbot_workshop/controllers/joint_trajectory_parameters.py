@@ -83,11 +83,12 @@ joint_trajectory_controller:
       u_clamp_min: {type: double, default_value: -.inf, description: "Lower output clamp."}
       i_clamp_max: {type: double, default_value: .inf, description: "Upper integral clamp."}
       i_clamp_min: {type: double, default_value: -.inf, description: "Lower integral clamp."}
+      antiwindup: {type: bool, default_value: false, description: "Deprecated in Jazzy (legacy strategy): keep the stored integral within the integral clamps."}
       antiwindup_strategy:
         type: string
-        default_value: none
-        description: "none | back_calculation | conditional_integration."
-        validation: {one_of<>: [[none, back_calculation, conditional_integration]]}
+        default_value: legacy
+        description: "legacy (Jazzy's default) | none | back_calculation | conditional_integration."
+        validation: {one_of<>: [[legacy, none, back_calculation, conditional_integration]]}
       tracking_time_constant: {type: double, default_value: 0.0, description: "Back-calculation time constant in [s]; 0 picks one."}
   constraints:
     stopped_velocity_tolerance: {type: double, default_value: 0.01, description: "Largest joint velocity in [rad/s] that counts as stopped at the goal."}

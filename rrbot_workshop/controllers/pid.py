@@ -98,7 +98,7 @@ class PidController(ChainableControllerInterface):
             try:
                 self.pids.append(Pid(
                     g.p, g.i, g.d, g.u_clamp_max, g.u_clamp_min, g.i_clamp_max, g.i_clamp_min,
-                    g.antiwindup_strategy, g.tracking_time_constant, g.error_deadband,
+                    g.antiwindup_strategy, g.tracking_time_constant, g.error_deadband, g.antiwindup,
                 ))
             except ParameterError as exc:
                 self.logger.error("'%s': gains of '%s' (parameters gains.%s.*) are invalid: %s",

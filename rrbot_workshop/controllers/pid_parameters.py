@@ -83,12 +83,16 @@ pid_controller:
         type: double
         default_value: -.inf
         description: "Lower limit of the integral term."
+      antiwindup:
+        type: bool
+        default_value: false
+        description: "Deprecated in Jazzy (legacy strategy): keep the stored integral within the integral clamps."
       antiwindup_strategy:
         type: string
-        default_value: "none"
-        description: "none, back_calculation or conditional_integration."
+        default_value: "legacy"
+        description: "legacy (Jazzy's default), none, back_calculation or conditional_integration."
         validation:
-          one_of<>: [["none", "back_calculation", "conditional_integration"]]
+          one_of<>: [["legacy", "none", "back_calculation", "conditional_integration"]]
       tracking_time_constant:
         type: double
         default_value: 0.0

@@ -28,14 +28,14 @@ def test_proportional_only():
 
 
 def test_integral_only_output_uses_previous_integral():
-    """First step gives 0: the integral is added to the output before it is updated."""
-    pid = Pid(i=1.0, u_clamp_max=5.0, u_clamp_min=-5.0)
+    """Strategy "none": the first step gives 0, the integral is added to the output before it is updated."""
+    pid = Pid(i=1.0, u_clamp_max=5.0, u_clamp_min=-5.0, antiwindup_strategy="none")
     cmds = [pid.compute_command(e, 1.0) for e in (-0.5, -0.5, 0.0, 0.0, 1.0, 0.0)]
     assert cmds == [0.0, -0.5, -1.0, -1.0, -1.0, 0.0]
 
 
 def test_reset_clears_integral():
-    pid = Pid(i=1.0, u_clamp_max=5.0, u_clamp_min=-5.0)
+    pid = Pid(i=1.0, u_clamp_max=5.0, u_clamp_min=-5.0, antiwindup_strategy="none")
     pid.compute_command(-0.5, 1.0)
     pid.reset()
     assert pid.compute_command(0.5, 1.0) == 0.0
@@ -61,12 +61,13 @@ def test_derivative_only_differentiates_errors():
 
 
 def test_complete_pid_sums_the_three_terms():
-    pid = Pid(1.0, 1.0, 1.0, u_clamp_max=5.0, u_clamp_min=-5.0, i_clamp_max=10.0, i_clamp_min=-10.0)
+    pid = Pid(1.0, 1.0, 1.0, u_clamp_max=5.0, u_clamp_min=-5.0, i_clamp_max=10.0, i_clamp_min=-10.0,
+              antiwindup_strategy="none")
     assert [pid.compute_command(e, 1.0) for e in (-0.5, -0.5, 0.0)] == [-1.0, -1.0, -0.5]
 
 
 def test_error_dot_overload_uses_given_derivative():
-    pid = Pid(1.0, 1.0, 1.0, u_clamp_max=5.0, u_clamp_min=-5.0)
+    pid = Pid(1.0, 1.0, 1.0, u_clamp_max=5.0, u_clamp_min=-5.0, antiwindup_strategy="none")
     assert pid.compute_command(-0.5, 1.0) == -1.0  # p -0.5 + d -0.5
     assert pid.compute_command(-0.5, 0.0, 1.0) == -1.0  # p -0.5 + i -0.5 + d 0
     assert pid.compute_command(-0.5, 2.0, 1.0) == 0.5  # p -0.5 + i -1.0 + d 2.0
@@ -92,7 +93,7 @@ def test_integral_clamp_with_back_calculation():
 
 
 def test_integral_clamp_with_no_strategy():
-    pid = Pid(i=1.0, i_clamp_max=1.0, i_clamp_min=-1.0)
+    pid = Pid(i=1.0, i_clamp_max=1.0, i_clamp_min=-1.0, antiwindup_strategy="none")
     _run(pid, [(-10.03, 1.0)])
     assert pid.i_term == -1.0
     assert pid.compute_command(30.0, 1.0) == -1.0
@@ -122,7 +123,7 @@ def test_conditional_integration_steps():
 
 
 def test_no_strategy_winds_up():
-    pid = Pid(i=1.0, u_clamp_max=5.0, u_clamp_min=-5.0)
+    pid = Pid(i=1.0, u_clamp_max=5.0, u_clamp_min=-5.0, antiwindup_strategy="none")
     assert _run(pid, [(3.0, 1.0)] * 3) == [(0.0, 3.0), (3.0, 6.0), (5.0, 9.0)]
 
 
@@ -165,7 +166,7 @@ def test_negative_dt_raises_naming_dt():
 
 @pytest.mark.parametrize("bad", [math.nan, math.inf])
 def test_non_finite_error_gives_nan_and_keeps_integral(bad):
-    pid = Pid(p=1.0, i=1.0)
+    pid = Pid(p=1.0, i=1.0, antiwindup_strategy="none")
     pid.compute_command(1.0, 1.0)
     assert math.isnan(pid.compute_command(bad, 1.0))
     assert math.isnan(pid.compute_command(1.0, bad, 1.0))
@@ -207,8 +208,8 @@ def test_bad_integral_limits_rejected_with_values(i_max, i_min):
 
 
 def test_unknown_strategy_rejected_listing_valid_ones():
-    with pytest.raises(ParameterError, match="back_calculation, conditional_integration"):
-        Pid(antiwindup_strategy="legacy")
+    with pytest.raises(ParameterError, match="legacy, none, back_calculation, conditional_integration"):
+        Pid(antiwindup_strategy="bogus")
 
 
 def test_negative_tracking_time_constant_rejected():
@@ -233,3 +234,32 @@ def test_set_gains_invalid_keeps_old_gains():
     with pytest.raises(ParameterError):
         pid.set_gains(Gains(1.0, 1.0, 1.0, i_clamp_max=-1.0, i_clamp_min=1.0))
     assert pid.get_gains().i_clamp_max == 1.0 and pid.get_gains().i_clamp_min == -1.0
+
+
+# ------------------------------------------------------------------------------------------- legacy (Jazzy's default)
+# After control_toolbox's Jazzy pid_tests.cpp (integralOnlyTest, integrationClampTest, integrationAntiwindupTest):
+# the legacy strategy integrates first and uses the integral, clamped to [i_clamp_min, i_clamp_max], in the same cycle.
+
+
+def test_legacy_is_the_default_and_integrates_first():
+    pid = Pid(i=1.0, u_clamp_max=5.0, u_clamp_min=-5.0)
+    assert pid.get_gains().antiwindup_strategy == "legacy" and pid.get_gains().antiwindup is False
+    cmds = [pid.compute_command(e, 1.0) for e in (-0.5, -0.5, 0.0, 0.0, 1.0, 0.0)]
+    assert cmds == [-0.5, -1.0, -1.0, -1.0, 0.0, 0.0]
+
+
+def test_legacy_without_antiwindup_clamps_the_output_of_the_integral_but_lets_it_wind_up():
+    pid = Pid(i=1.0, i_clamp_max=1.0, i_clamp_min=-1.0)
+    assert [pid.compute_command(-1.0, 1.0) for _ in range(2)] == [-1.0, -1.0]
+    assert pid.compute_command(0.5, 1.0) == -1.0  # the stored integral is -1.5: still beyond the clamp
+
+
+def test_legacy_with_antiwindup_keeps_the_stored_integral_within_the_clamps():
+    pid = Pid(i=2.0, i_clamp_max=1.0, i_clamp_min=-1.0, antiwindup=True)
+    assert [pid.compute_command(e, 1.0) for e in (-1.0, -1.0, 0.5, -1.0)] == [-1.0, -1.0, 0.0, -1.0]
+
+
+def test_legacy_complete_pid():
+    pid = Pid(1.0, 1.0, 1.0, u_clamp_max=5.0, u_clamp_min=-5.0, i_clamp_max=10.0, i_clamp_min=-10.0)
+    # p -0.5 + i -0.5 + d -0.5;  p -0.5 + i -1.0 + d 0;  p 0 + i -1.0 + d 0.5
+    assert [pid.compute_command(e, 1.0) for e in (-0.5, -0.5, 0.0)] == [-1.5, -1.5, -0.5]
