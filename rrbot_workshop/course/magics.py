@@ -297,6 +297,9 @@ def topic(line: str) -> None:
 
 
 def load_ipython_extension(ipython: Any) -> None:
-    """Register ``%control`` and ``%topic`` in an IPython shell."""
+    """Register ``%control`` and ``%topic``, and short tracebacks for library errors, in an IPython shell."""
+    from rrbot_workshop.course.tracebacks import register
+
     ipython.register_magic_function(control, "line", "control")
     ipython.register_magic_function(topic, "line", "topic")
+    register(ipython)
