@@ -17,6 +17,7 @@ Each load re-reads the file from disk, so a learner edits, saves and re-runs the
 from __future__ import annotations
 
 import pprint
+import re
 import sys
 import traceback
 from collections.abc import Callable
@@ -27,6 +28,9 @@ from typing import Any
 from rrbot_workshop.course import tracks
 
 __all__ = ["task_file", "load_module", "function", "ask", "short_error", "mine_or_reference", "run"]
+
+#: The tag of a TODO message (``TODO(task 3.1)``): enough to find it in the file, without its hint.
+_TODO = re.compile(r"TODO\(task [0-9.]+\)")
 
 
 def task_file(task: int, relpath: str, track: str | None = None) -> Path:
@@ -92,34 +96,38 @@ def function(task: int, relpath: str, name: str, *, track: str | None = None) ->
     return fn
 
 
-def ask(module: ModuleType | None, question: str, *args: Any, show: bool = True, default: Any = None) -> Any:
+def ask(
+    module: ModuleType | None, question: str, *args: Any, show: bool = True, default: Any = None,
+    label: str | None = None,
+) -> Any:
     """Call the learner's ``question(*args)`` from ``module`` and print the answer; never raises.
 
     ``NotImplementedError`` reads "not written yet"; any other exception one short line. Returns the answer,
-    or ``default`` when there is none.
+    or ``default`` when there is none. ``label`` names the question in the printed line (default its name).
     """
     if module is None:
         if show:
-            print(f"{question}: the file does not load yet")
+            print(f"{label or question}: the file does not load yet")
         return default
     fn = getattr(module, question, None)
     if not callable(fn):
         if show:
-            print(f"{question}: not defined in {Path(module.__file__ or '?').name}")
+            print(f"{label or question}: not defined in {Path(module.__file__ or '?').name}")
         return default
     try:
         answer = fn(*args)
     except NotImplementedError as exc:
         if show:
-            print(f"{question}: not written yet" + (f" ({exc})" if str(exc) else ""))
+            todo = _TODO.search(str(exc))
+            print(f"{label or question}: not written yet" + (f" ({todo.group(0) if todo else exc})" if str(exc) else ""))
         return default
     except Exception as exc:  # noqa: BLE001 - a half-written answer must not stop the notebook
         path = Path(module.__file__) if module.__file__ else None
         if show:
-            print(f"{question}: raised {short_error(exc, path)}")
+            print(f"{label or question}: raised {short_error(exc, path)}")
         return default
     if show:
-        print(f"{question}:", pprint.pformat(answer, compact=True, width=110))
+        print(f"{label or question}:", pprint.pformat(answer, compact=True, width=110))
     return answer
 
 
@@ -215,7 +223,8 @@ def run(
         result = fn(*args, **kwargs)
         problem = check(result) if check is not None else ""
     except NotImplementedError as exc:
-        problem = "not written yet" + (f": {exc}" if str(exc) else "")
+        todo = _TODO.search(str(exc))
+        problem = "not written yet" + (f": {todo.group(0) if todo else exc}" if str(exc) else "")
     except Exception as exc:  # noqa: BLE001 - the learner's code may fail in any way while being written
         problem = short_error(exc, path)
     if not problem:
