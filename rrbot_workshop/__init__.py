@@ -98,7 +98,11 @@ def __getattr__(name: str) -> Any:
 
 
 def load_ipython_extension(ipython: Any) -> None:
-    """``%load_ext rrbot_workshop`` registers the ``%control`` and ``%topic`` magics."""
+    """``%load_ext rrbot_workshop``: the ``%control`` and ``%topic`` magics, and short tracebacks for library errors.
+
+    A :class:`RRBotWorkshopError` raised in a notebook cell then shows its message first and the learner's
+    own frames only; ``%tb`` prints the full traceback.
+    """
     from rrbot_workshop.course.magics import load_ipython_extension as _load
 
     _load(ipython)

@@ -12,6 +12,8 @@ from dataclasses import dataclass, field
 
 __all__ = [
     "Header",
+    "MultiArrayDimension",
+    "MultiArrayLayout",
     "Float64MultiArray",
     "Float64",
     "Bool",
@@ -72,9 +74,32 @@ class Header:
 
 
 @dataclass
-class Float64MultiArray:
-    """``std_msgs/msg/Float64MultiArray`` (layout omitted: always one flat array)."""
+class MultiArrayDimension:
+    """``std_msgs/msg/MultiArrayDimension``: one dimension of a multi-array's layout."""
 
+    label: str = ""
+    size: int = 0
+    stride: int = 0
+
+
+@dataclass
+class MultiArrayLayout:
+    """``std_msgs/msg/MultiArrayLayout``: how ``data`` is laid out; empty ``dim`` means one flat array."""
+
+    dim: list[MultiArrayDimension] = field(default_factory=list)
+    data_offset: int = 0
+
+
+@dataclass
+class Float64MultiArray:
+    """``std_msgs/msg/Float64MultiArray``.
+
+    ``layout`` is accepted as ROS 2 defines it (the original workshop's messages carry one) and, as in
+    the forward command controllers of ros2_controllers, not used: ``data`` is read as one flat array.
+    It is keyword-only here, so ``Float64MultiArray([0.7, 0.7])`` still fills ``data``.
+    """
+
+    layout: MultiArrayLayout = field(default_factory=MultiArrayLayout, kw_only=True)
     data: list[float] = field(default_factory=list)
 
 

@@ -4,6 +4,15 @@ The names below are what notebook cells use to reach the learner's files (``rw.c
 "answers.py")``); see :mod:`rrbot_workshop.course.learner`.
 """
 
-from rrbot_workshop.course.learner import ask, function, load_module, short_error, shown, task_file
+from rrbot_workshop.course.learner import (
+    ask,
+    function,
+    load_module,
+    mine_or_reference,
+    run,
+    short_error,
+    shown,
+    task_file,
+)
 
-__all__ = ["ask", "function", "load_module", "short_error", "shown", "task_file"]
+__all__ = ["ask", "function", "load_module", "mine_or_reference", "run", "short_error", "shown", "task_file"]

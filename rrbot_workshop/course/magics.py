@@ -6,6 +6,8 @@ or on ``--system <name>``::
     %control list_controllers
     %control switch_controllers --activate joint_trajectory_controller --deactivate forward_position_controller
     %topic echo /joint_states --once
+    %topic info /joint_states -v
+    %topic hz /joint_states
     %topic pub /forward_position_controller/commands std_msgs/msg/Float64MultiArray "{data: [0.7, 0.7]}"
 
 Output is printed (this is the one module whose job is printing); bad input prints an error line
@@ -15,18 +17,17 @@ naming what was wrong and what is valid, and never raises into the notebook.
 from __future__ import annotations
 
 import argparse
-import dataclasses
 import shlex
 import typing
 from typing import Any
 
 import yaml
 
-from rrbot_workshop import msgs
 from rrbot_workshop.bringup import System, current_system, get_system
+from rrbot_workshop.course.message_yaml import message_from_dict, message_to_yaml, message_type, ros_time
 from rrbot_workshop.exceptions import MessageError, RRBotWorkshopError
 
-__all__ = ["control", "topic", "load_ipython_extension", "message_from_dict", "message_to_yaml"]
+__all__ = ["control", "topic", "load_ipython_extension", "message_from_dict", "message_to_yaml", "ros_time"]
 
 
 class _UsageError(Exception):
@@ -199,52 +200,6 @@ def control(line: str) -> None:
 
 
 # ===================================================================== %topic
-def _message_type(name: str) -> type:
-    short = name.split("/")[-1]
-    cls = getattr(msgs, short, None)
-    if not (isinstance(cls, type) and dataclasses.is_dataclass(cls)):
-        valid = sorted(n for n in msgs.__all__ if dataclasses.is_dataclass(getattr(msgs, n)))
-        raise MessageError(f"unknown message type '{name}' (valid: {', '.join(valid)})")
-    return cls
-
-
-def message_from_dict(cls: type, data: Any) -> Any:
-    """Build message ``cls`` from a (YAML) mapping, recursively; unknown fields are an error.
-
-    Raises:
-        MessageError: If a field does not exist; the message lists the valid ones.
-    """
-    if data is None:
-        return cls()
-    if not isinstance(data, dict):
-        raise MessageError(f"{cls.__name__} must be given as a mapping of its fields, got {data!r}")
-    hints = typing.get_type_hints(cls)
-    names = [f.name for f in dataclasses.fields(cls)]
-    kwargs: dict[str, Any] = {}
-    for key, value in data.items():
-        if key not in names:
-            raise MessageError(f"{cls.__name__} has no field '{key}' (valid: {', '.join(names)})")
-        hint = hints[key]
-        origin = typing.get_origin(hint)
-        if isinstance(hint, type) and dataclasses.is_dataclass(hint):
-            kwargs[key] = message_from_dict(hint, value)
-        elif origin is list and typing.get_args(hint) and dataclasses.is_dataclass(typing.get_args(hint)[0]):
-            kwargs[key] = [message_from_dict(typing.get_args(hint)[0], v) for v in value or []]
-        elif hint is float and isinstance(value, int) and not isinstance(value, bool):
-            kwargs[key] = float(value)
-        elif origin is list and typing.get_args(hint) == (float,) and isinstance(value, list):
-            kwargs[key] = [float(v) if isinstance(v, int) and not isinstance(v, bool) else v for v in value]
-        else:
-            kwargs[key] = value
-    return cls(**kwargs)
-
-
-def message_to_yaml(msg: Any) -> str:
-    """A message as ``ros2 topic echo`` prints it (YAML, block style), without the trailing ``---``."""
-    data = dataclasses.asdict(msg) if dataclasses.is_dataclass(msg) and not isinstance(msg, type) else msg
-    return yaml.safe_dump(data, sort_keys=False, default_flow_style=False).rstrip("\n")
-
-
 def _topic_parser() -> _Parser:
     p = _Parser(prog="%topic", add_help=False)
     p.add_argument("--system", default=None)
@@ -255,6 +210,13 @@ def _topic_parser() -> _Parser:
     echo.add_argument("topic")
     echo.add_argument("--once", action="store_true")
     echo.add_argument("-n", type=int, default=10, help="how many of the latest messages (default 10)")
+    info = sub.add_parser("info", add_help=False)
+    info.add_argument("topic")
+    info.add_argument("-v", "--verbose", action="store_true")
+    hz = sub.add_parser("hz", add_help=False)
+    hz.add_argument("topic")
+    hz.add_argument("-w", "--window", type=int, default=10000, help="messages the statistics use (default 10000)")
+    hz.add_argument("--duration", type=float, default=1.0, help="simulated seconds to listen for (default 1.0)")
     pub = sub.add_parser("pub", add_help=False)
     pub.add_argument("topic")
     pub.add_argument("type")
@@ -263,16 +225,83 @@ def _topic_parser() -> _Parser:
     return p
 
 
+_TOPIC_VERBS = (
+    "list [-t], echo <topic> [--once] [-n N], info <topic> [-v], hz <topic> [--duration S] [-w N], "
+    "pub <topic> <type> '<yaml>'"
+)
+
+
+def _unknown_topic(system: System, name: str) -> str:
+    close = system.bus.similar_topics(name)
+    return f"Unknown topic '{name}'" + (f"; did you mean '{close[0]}'?" if close else "")
+
+
+def _print_topic_info(system: System, name: str, verbose: bool) -> None:
+    """``ros2 topic info [-v]``: the type, then the count (and with -v the node) of publishers and subscriptions."""
+    bus = system.bus
+    type_name = bus.topic_type_name(name)
+    if type_name is None:
+        print(_unknown_topic(system, name))
+        return
+    endpoints = [("Publisher", "PUBLISHER", bus.publisher_owners(name)),
+                 ("Subscription", "SUBSCRIPTION", bus.subscription_owners(name))]
+    print(f"Type: {type_name}")
+    for title, kind, owners in endpoints:
+        if not verbose:
+            print(f"{title} count: {len(owners)}")
+            continue
+        print(f"\n{title} count: {len(owners)}\n")
+        for owner in owners:
+            print(f"Node name: {owner or '_anonymous'}")
+            print("Node namespace: /")
+            print(f"Topic type: {type_name}")
+            print(f"Endpoint type: {kind}\n")
+
+
+def _print_topic_hz(system: System, name: str, duration: float, window: int) -> None:
+    """``ros2 topic hz``, on simulated time: listen for ``duration`` [s] of spinning, print the rate."""
+    if not duration > 0:
+        raise _UsageError(f"--duration must be > 0 simulated seconds, got {duration}")
+    if system.bus.topic_type_name(name) is None:
+        print(_unknown_topic(system, name))
+        return
+    times: list[float] = []
+    subscription = system.bus.create_subscription(None, name, lambda _msg: times.append(system.time), owner="_ros2cli_hz")
+    try:
+        system.spin(duration)
+    finally:
+        subscription.destroy()
+    times = times[-(max(window, 2)):]
+    if len(times) < 2:
+        print(f"WARNING: {len(times)} message(s) on '{name}' in {duration:g} s of simulated time: no rate to measure")
+        return
+    gaps = [b - a for a, b in zip(times, times[1:], strict=False)]
+    mean = sum(gaps) / len(gaps)
+    std = (sum((g - mean) ** 2 for g in gaps) / len(gaps)) ** 0.5
+    rate = 1.0 / mean if mean > 0 else float("inf")
+    print(f"average rate: {rate:.3f}")
+    print(f"\tmin: {min(gaps):.3f}s max: {max(gaps):.3f}s std dev: {std:.5f}s window: {len(times)}")
+    print(f"(measured on simulated time: the system spun {duration:g} s, until t = {system.time:.2f} s)")
+
+
 def topic(line: str) -> None:
-    """Run one ``%topic`` command line: ``list [-t]``, ``echo <topic> [--once] [-n N]``, ``pub <topic> <type> '<yaml>'``."""
+    """Run one ``%topic`` command line: ``list``, ``echo``, ``info``, ``hz`` or ``pub``, as ``ros2 topic`` does.
+
+    ``hz`` spins the system for ``--duration`` seconds of simulated time (default 1 s) and reports the
+    rate of the messages received meanwhile: simulated time moves only while the system spins.
+    """
     try:
         args = _topic_parser().parse_args(shlex.split(line))
         if args.verb is None:
-            raise _UsageError("%topic needs a verb: list [-t], echo <topic> [--once], pub <topic> <type> '<yaml>'")
+            raise _UsageError(f"%topic needs a verb: {_TOPIC_VERBS}")
         system = _system(args.system)
         if args.verb == "list":
             for name, type_name in system.bus.topic_names_and_types():
                 print(f"{name} [{type_name}]" if args.show_types else name)
+        elif args.verb == "info":
+            _print_topic_info(system, args.topic, args.verbose)
+        elif args.verb == "hz":
+            _print_topic_hz(system, args.topic, args.duration, args.window)
         elif args.verb == "echo":
             history = system.history(args.topic)
             if not history:
@@ -282,7 +311,7 @@ def topic(line: str) -> None:
                 print(message_to_yaml(msg))
                 print("---")
         elif args.verb == "pub":
-            cls = _message_type(args.type)
+            cls = message_type(args.type)
             try:
                 data = yaml.safe_load(args.values)
             except yaml.YAMLError as exc:
@@ -297,6 +326,9 @@ def topic(line: str) -> None:
 
 
 def load_ipython_extension(ipython: Any) -> None:
-    """Register ``%control`` and ``%topic`` in an IPython shell."""
+    """Register ``%control`` and ``%topic``, and short tracebacks for library errors, in an IPython shell."""
+    from rrbot_workshop.course.tracebacks import register
+
     ipython.register_magic_function(control, "line", "control")
     ipython.register_magic_function(topic, "line", "topic")
+    register(ipython)

@@ -9,6 +9,7 @@ Every topic keeps its latest message and a bounded history, so a notebook can ec
 from __future__ import annotations
 
 import collections
+import difflib
 import logging
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -120,6 +121,7 @@ class TopicBus:
         self._history_depth = history_depth
         self._services: dict[str, Service] = {}
         self._publishers: dict[str, list[str]] = collections.defaultdict(list)
+        self._warned_no_subscriber: set[str] = set()
 
     # ----------------------------------------------------------------- registration
     def _check_type(self, topic: str, msg_type: type | None) -> None:
@@ -165,6 +167,30 @@ class TopicBus:
         """Number of subscriptions on ``topic``."""
         return len(self._subs.get(topic, []))
 
+    def publisher_count(self, topic: str) -> int:
+        """Number of publishers (of nodes) on ``topic``; publishing from outside a node creates none."""
+        return len(self._publishers.get(topic, []))
+
+    def publisher_owners(self, topic: str) -> list[str]:
+        """Node names of the publishers on ``topic``, in creation order."""
+        return list(self._publishers.get(topic, []))
+
+    def subscription_owners(self, topic: str) -> list[str]:
+        """Node names of the subscriptions on ``topic``, in creation order."""
+        return [s.owner for s in self._subs.get(topic, [])]
+
+    def topic_type_name(self, topic: str) -> str | None:
+        """ROS type name of ``topic`` (``"sensor_msgs/msg/JointState"``), or None if the topic is unknown."""
+        return dict(self.topic_names_and_types()).get(topic)
+
+    def similar_topics(self, topic: str, *, subscribed_only: bool = False) -> list[str]:
+        """Known topic names close to ``topic`` (a misspelling), closest first."""
+        if subscribed_only:
+            names = [t for t, subs in self._subs.items() if subs]
+        else:
+            names = [t for t, _ in self.topic_names_and_types()]
+        return difflib.get_close_matches(topic, [n for n in names if n != topic], n=3, cutoff=0.6)
+
     # ----------------------------------------------------------------- traffic
     def _publish(self, topic: str, msg: Any) -> None:
         self._latest[topic] = msg
@@ -178,12 +204,21 @@ class TopicBus:
     def publish(self, topic: str, msg: Any) -> None:
         """Publish ``msg`` on ``topic`` from outside any node (like ``ros2 topic pub``).
 
+        The first message on a topic that nobody subscribes to logs a warning, naming the subscribed topic
+        with the closest name (``no subscriber on '/forward_position_controler/commands'; did you mean
+        '/forward_position_controller/commands'?``).
+
         Raises:
             MessageError: If the topic is known to carry another message type.
         """
         known = self._types.get(topic)
         if known is not None and not isinstance(msg, known):
             raise MessageError(f"topic '{topic}' carries {known.__name__}, got {type(msg).__name__}")
+        if not self._subs.get(topic) and topic not in self._warned_no_subscriber:
+            self._warned_no_subscriber.add(topic)
+            close = self.similar_topics(topic, subscribed_only=True)
+            hint = f"; did you mean '{close[0]}'?" if close else " (the message is kept as its latest; nobody receives it)"
+            _log.warning("no subscriber on '%s'%s", topic, hint)
         self._publish(topic, msg)
 
     def deliver(self) -> int:

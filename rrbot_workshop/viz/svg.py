@@ -10,12 +10,16 @@ import os
 from pathlib import Path
 from xml.sax.saxutils import escape
 
-__all__ = ["SvgDiagram", "SvgCanvas", "text_width", "FONT_SIZE", "LINE_HEIGHT"]
+__all__ = ["SvgDiagram", "SvgCanvas", "text_width", "FONT_SIZE", "LINE_HEIGHT", "FIT_STYLE"]
 
 FONT_SIZE = 12
 LINE_HEIGHT = 18
 _CHAR_WIDTH = 0.61 * FONT_SIZE  # monospace advance width, generous
 _FONT = "DejaVu Sans Mono, Menlo, Consolas, monospace"
+
+#: Style of every diagram's root element: natural size when the cell is wide enough, scaled down
+#: (keeping its proportions, thanks to the viewBox) to the cell's width when it is not.
+FIT_STYLE = "max-width: 100%; height: auto"
 
 #: Fill and stroke colours of lifecycle states.
 STATE_COLORS: dict[str, tuple[str, str]] = {
@@ -180,7 +184,7 @@ class SvgCanvas:
         body = "\n".join([*self._layers["back"], *self._layers["edges"], *self._layers["front"]])
         return (
             f'<svg xmlns="http://www.w3.org/2000/svg" width="{_n(w)}" height="{_n(h)}" '
-            f'viewBox="0 0 {_n(w)} {_n(h)}" font-family="{_FONT}">\n'
+            f'viewBox="0 0 {_n(w)} {_n(h)}" style="{FIT_STYLE}" font-family="{_FONT}">\n'
             f"<title>{escape(title)}</title>\n{defs}\n"
             f'<rect x="0" y="0" width="{_n(w)}" height="{_n(h)}" fill="#ffffff"/>\n{body}\n</svg>\n'
         )

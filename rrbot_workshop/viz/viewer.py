@@ -20,6 +20,7 @@ import html
 import logging
 import math
 import os
+import weakref
 from collections.abc import Iterator, Mapping
 from pathlib import Path
 from typing import Any
@@ -31,12 +32,26 @@ from rrbot_workshop.viz.meshcat_geometry import shape_geometry, shape_material
 from rrbot_workshop.viz.robot_model import RobotModel, load_urdf_text
 from rrbot_workshop.viz.scene import Scene, ZmqConnection, ground_grid
 
-__all__ = ["Viewer"]
+__all__ = ["Viewer", "live_viewer"]
 
 _log = logging.getLogger(__name__)
 
 # Scene paths: robots go under /meshcat; /Grid and /Axes are meshcat's default ground grid and axes.
 _ROBOTS, _GRID, _AXES = "/meshcat", "/Grid", "/Axes"
+
+# The live viewer of each scene root in this kernel: a new live viewer of the same robot takes over its
+# meshcat server (same URL, no second process) and the old viewer is closed.
+_LIVE_VIEWERS: dict[str, weakref.ref[Viewer]] = {}
+
+
+def live_viewer(root: str) -> Viewer | None:
+    """The open live viewer drawing under scene path ``root`` in this kernel, or None."""
+    ref = _LIVE_VIEWERS.get(root)
+    viewer = ref() if ref is not None else None
+    if viewer is None or viewer._closed or viewer._server is None:
+        return None
+    return viewer
+
 
 def _is_system(source: Any) -> bool:
     return not isinstance(source, (str, os.PathLike)) and hasattr(source, "urdf")
@@ -54,6 +69,11 @@ class Viewer:
             in this process always follows every message.
         prefix: Scene path under which the robot is drawn (defaults to the URDF's robot name).
 
+    One live view per robot and kernel: a second live ``Viewer`` drawing under the same scene path (the
+    same robot name, or the same ``prefix``) takes over the first one's meshcat server, whose page keeps
+    its URL, and closes the first viewer (its sliders then say so). Re-running a viewer cell therefore
+    never starts a second server. Pass another ``prefix`` to see two robots of the same name at once.
+
     Raises:
         DescriptionError: If the description cannot be read.
         RuntimeError: If the meshcat server does not start.
@@ -70,13 +90,17 @@ class Viewer:
         self.model = RobotModel(urdf, base_dir=base_dir)
         self._root = f"{_ROBOTS}/" + (prefix or self.model.name).strip("/")
         self._server: Any = None
+        self._slider_boxes: list[weakref.ref[Any]] = []
+        self._closed_reason = ""
         connection = None
+        reused = False
         if open_server:
-            from rrbot_workshop.viz.meshcat_server import MeshcatServer
-
-            self._server = MeshcatServer()
+            self._server, reused = self._take_over_or_start_server()
             connection = ZmqConnection(self._server.zmq_url)
+            _LIVE_VIEWERS[self._root] = weakref.ref(self)
         self.scene = Scene(connection)
+        if reused:
+            self.scene.delete(self._root)  # what the previous viewer of this robot drew on the same server
         self._live_period = 1.0 / live_rate if live_rate > 0 else 0.0
         self._last_sent_stamp: float | None = None
         self._subscription: Any = None
@@ -92,6 +116,24 @@ class Viewer:
             self._subscription = self._system.bus.create_subscription(
                 JointState, "/joint_states", self._on_joint_state, owner="viewer"
             )
+
+    def _take_over_or_start_server(self) -> tuple[Any, bool]:
+        """The meshcat server of the previous live viewer of this robot (closing that viewer), or a new one.
+
+        Returns:
+            The server, and True if it was taken over.
+        """
+        previous = live_viewer(self._root)
+        if previous is not None and previous._server is not None and previous._server.running:
+            server = previous._server
+            previous._server = None  # handed over: closing the old viewer must not stop it
+            previous._close(f"replaced by a newer viewer of '{self.model.name}'")
+            _log.info("viewer of '%s': reusing the meshcat server of the previous viewer (%s)",
+                      self.model.name, server.web_url)
+            return server, True
+        from rrbot_workshop.viz.meshcat_server import MeshcatServer
+
+        return MeshcatServer(), False
 
     # ------------------------------------------------------------------------------------- drawing
     def _link_path(self, link: str) -> str:
@@ -265,11 +307,16 @@ class Viewer:
     def sliders(self) -> Any:
         """One ipywidgets slider per movable joint, limits from the URDF (like ``joint_state_publisher_gui``).
 
+        When this viewer is closed (by :meth:`close`, or replaced by a newer viewer of the same robot) the
+        sliders are disabled and the line under them says so; moving one then changes nothing and repeats
+        that message instead of failing silently.
+
         Returns:
-            An ``ipywidgets.VBox``; its ``children`` are the ``FloatSlider``s in URDF joint order.
+            An ``ipywidgets.VBox``: the ``FloatSlider``s in URDF joint order, then a status ``Label``.
         """
         import ipywidgets as widgets
 
+        status = widgets.Label(value="")
         boxes = []
         for joint in self.model.joint_ranges:
             value = min(max(self.model.positions[joint.name], joint.lower), joint.upper)
@@ -279,11 +326,35 @@ class Viewer:
             )
 
             def on_change(change: Mapping[str, Any], name: str = joint.name) -> None:
+                if self._closed:
+                    status.value = self._gone_message()
+                    return
                 self.set_joint_positions({name: float(change["new"])})
 
             slider.observe(on_change, names="value")
             boxes.append(slider)
-        return widgets.VBox(boxes)
+        box = widgets.VBox([*boxes, status])
+        self._slider_boxes.append(weakref.ref(box))
+        if self._closed:
+            self._mark_sliders_gone()
+        return box
+
+    def _gone_message(self) -> str:
+        if self._closed_reason.startswith("replaced"):
+            then = "use the sliders of the new viewer"
+        else:
+            then = "create a new viewer and call its sliders()"
+        return f"This viewer of '{self.model.name}' is {self._closed_reason or 'closed'}: these sliders move nothing; {then}."
+
+    def _mark_sliders_gone(self) -> None:
+        for ref in self._slider_boxes:
+            box = ref()
+            if box is None:
+                continue
+            *sliders, status = box.children
+            for slider in sliders:
+                slider.disabled = True
+            status.value = self._gone_message()
 
     # ------------------------------------------------------------------------------------- shutdown
     @property
@@ -291,8 +362,18 @@ class Viewer:
         """Process id of the meshcat server, or None."""
         return None if self._server is None else int(self._server.pid)
 
+    @property
+    def closed(self) -> bool:
+        """True once :meth:`close` ran or a newer viewer of the same robot took over."""
+        return self._closed
+
     def close(self) -> None:
         """Stop following the system and stop the meshcat server. The scene stays exportable."""
+        self._close("closed")
+
+    def _close(self, reason: str) -> None:
+        if self._closed:
+            return
         if self._subscription is not None:
             self._subscription.destroy()
             self._subscription = None
@@ -301,7 +382,12 @@ class Viewer:
             self.scene.connection = None
         if self._server is not None:
             self._server.close()
+            self._server = None
+        if _LIVE_VIEWERS.get(self._root) is not None and _LIVE_VIEWERS[self._root]() is self:
+            del _LIVE_VIEWERS[self._root]
         self._closed = True
+        self._closed_reason = reason
+        self._mark_sliders_gone()
 
     def __enter__(self) -> Viewer:
         return self

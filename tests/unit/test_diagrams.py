@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import re
+import shutil
+import subprocess
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
@@ -247,3 +250,40 @@ def test_diagram_displays_inline_and_is_deterministic():
 def test_without_source_or_lists_raises_type_error():
     with pytest.raises(TypeError, match="controllers="):
         controller_chains(controllers=[])
+
+
+# ------------------------------------------------------------------------------------------ fit the cell
+def test_wide_diagrams_scale_to_the_cell_width_keeping_their_proportions():
+    diagram = controller_chains(**_chain())
+    root = ET.fromstring(diagram.svg)
+    width, height = float(root.get("width")), float(root.get("height"))
+    assert width > 900  # wider than a notebook cell on a laptop
+    assert root.get("viewBox") == f"0 0 {root.get('width')} {root.get('height')}"
+    style = {k.strip(): v.strip() for k, v in (p.split(":") for p in root.get("style").split(";"))}
+    assert style == {"max-width": "100%", "height": "auto"}
+    assert height > 0
+
+
+@pytest.mark.browser
+@pytest.mark.skipif(shutil.which("chromium") is None, reason="headless Chromium not installed")
+def test_wide_diagram_fits_a_narrow_cell_in_a_browser(tmp_path: Path):
+    diagram = controller_chains(**_chain())
+    root = ET.fromstring(diagram.svg)
+    natural_w, natural_h = float(root.get("width")), float(root.get("height"))
+    page = tmp_path / "cell.html"
+    page.write_text(
+        "<!DOCTYPE html><html><body style='margin:0'><div id='cell' style='width:500px'>" + diagram.svg + "</div>"
+        "<script>const r = document.querySelector('#cell svg').getBoundingClientRect();"
+        "document.title = 'size ' + r.width + ' ' + r.height;</script></body></html>",
+        encoding="utf-8",
+    )
+    out = subprocess.run(
+        [shutil.which("chromium"), "--headless", "--no-sandbox", "--disable-gpu", "--no-first-run",
+         f"--user-data-dir={tmp_path / 'profile'}", "--dump-dom", page.as_uri()],
+        capture_output=True, text=True, timeout=120, check=False,
+    ).stdout
+    match = re.search(r"<title>size ([\d.]+) ([\d.]+)</title>", out)
+    assert match, out[-500:]
+    shown_w, shown_h = float(match.group(1)), float(match.group(2))
+    assert shown_w == pytest.approx(500, abs=1)
+    assert shown_h == pytest.approx(natural_h * 500 / natural_w, rel=0.02)

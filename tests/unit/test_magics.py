@@ -6,9 +6,24 @@ import core_helpers  # noqa: F401  (registers the test plugins)
 import pytest
 
 from rrbot_workshop.bringup import bringup
-from rrbot_workshop.course.magics import control, load_ipython_extension, message_from_dict, message_to_yaml, topic
+from rrbot_workshop.course.magics import (
+    control,
+    load_ipython_extension,
+    message_from_dict,
+    message_to_yaml,
+    ros_time,
+    topic,
+)
 from rrbot_workshop.exceptions import MessageError
-from rrbot_workshop.msgs import Float64MultiArray, JointTrajectory
+from rrbot_workshop.msgs import (
+    Float64MultiArray,
+    Header,
+    JointState,
+    JointTrajectory,
+    JointTrajectoryPoint,
+    MultiArrayDimension,
+    MultiArrayLayout,
+)
 
 URDF = """<robot name="magic">
   <link name="base"/><link name="l1"/>
@@ -128,9 +143,11 @@ def test_no_system_is_reported(capsys) -> None:  # noqa: ANN001
 
 def test_topic_pub_then_echo(system, capsys) -> None:  # noqa: ANN001
     topic('pub /cmd std_msgs/msg/Float64MultiArray "{data: [0.7, 1]}"')
-    assert "publishing #1: Float64MultiArray(data=[0.7, 1.0])" in _out(capsys)
+    assert "publishing #1: Float64MultiArray(layout=MultiArrayLayout(dim=[], data_offset=0), data=[0.7, 1.0])" in _out(
+        capsys
+    )
     topic("echo /cmd --once")
-    assert _out(capsys) == "data:\n- 0.7\n- 1.0\n---\n"
+    assert _out(capsys) == "layout:\n  dim: []\n  data_offset: 0\ndata:\n- 0.7\n- 1.0\n---\n"
     topic("list -t")
     assert "/cmd [std_msgs/msg/Float64MultiArray]" in _out(capsys)
 
@@ -147,9 +164,86 @@ def test_topic_errors_are_reported(system, capsys) -> None:  # noqa: ANN001
 def test_message_from_dict_builds_nested_messages() -> None:
     msg = message_from_dict(JointTrajectory, {"joint_names": ["j1"], "points": [{"positions": [1], "time_from_start": 2}]})
     assert msg.points[0].positions == [1.0] and msg.points[0].time_from_start == 2.0
-    assert message_to_yaml(Float64MultiArray(data=[1.0])) == "data:\n- 1.0"
+    assert message_to_yaml(Float64MultiArray(data=[1.0])) == "layout:\n  dim: []\n  data_offset: 0\ndata:\n- 1.0"
     with pytest.raises(MessageError, match="mapping"):
         message_from_dict(Float64MultiArray, [1, 2])
+
+
+def test_float64_multi_array_accepts_the_layout_of_std_msgs() -> None:
+    # The original workshop's command carries a layout; std_msgs/MultiArrayLayout and MultiArrayDimension.
+    msg = message_from_dict(Float64MultiArray, {
+        "layout": {"dim": [{"label": "joints", "size": 2, "stride": 2}], "data_offset": 0}, "data": [0.7, 0.7]})
+    assert msg.layout == MultiArrayLayout(dim=[MultiArrayDimension("joints", 2, 2)], data_offset=0)
+    assert msg.data == [0.7, 0.7]
+    assert Float64MultiArray([0.5]).data == [0.5]  # layout is keyword-only: a positional list is the data
+    with pytest.raises(MessageError, match="MultiArrayDimension has no field 'name'"):
+        message_from_dict(Float64MultiArray, {"layout": {"dim": [{"name": "x"}]}})
+
+
+def test_echo_writes_stamps_and_durations_as_sec_and_nanosec() -> None:
+    text = message_to_yaml(JointState(header=Header(stamp=12.25, frame_id="base"), name=["j1"], position=[0.5]))
+    assert text.startswith("header:\n  stamp:\n    sec: 12\n    nanosec: 250000000\n  frame_id: base\n")
+    point = JointTrajectoryPoint(positions=[1.0], time_from_start=3.0)
+    assert "time_from_start:\n    sec: 3\n    nanosec: 0" in message_to_yaml(JointTrajectory(points=[point]))
+    assert ros_time(0.1) == {"sec": 0, "nanosec": 100000000}
+    assert ros_time(1.9999999999) == {"sec": 2, "nanosec": 0}
+
+
+def test_pub_accepts_ros_shaped_times() -> None:
+    msg = message_from_dict(JointTrajectory, {
+        "header": {"stamp": {"sec": 1, "nanosec": 500000000}},
+        "points": [{"positions": [1], "time_from_start": {"sec": 3}}]})
+    assert msg.header.stamp == 1.5 and msg.points[0].time_from_start == 3.0
+    with pytest.raises(MessageError, match="valid: sec, nanosec"):
+        message_from_dict(JointTrajectory, {"points": [{"time_from_start": {"secs": 3}}]})
+    with pytest.raises(MessageError, match="0 <= nanosec"):
+        message_from_dict(JointTrajectory, {"points": [{"time_from_start": {"sec": 0, "nanosec": 2000000000}}]})
+
+
+FORWARD = {
+    "controller_manager": {"ros__parameters": {"update_rate": 50,
+                           "jsb": {"type": "joint_state_broadcaster/JointStateBroadcaster"},
+                           "fwd": {"type": "forward_command_controller/ForwardCommandController"}}},
+    "fwd": {"ros__parameters": {"joints": ["j1"], "interface_name": "position"}},
+}
+
+
+@pytest.fixture
+def forward():  # noqa: ANN201
+    with bringup(URDF, FORWARD, spawn=["jsb", "fwd"], name="forward_test") as s:
+        yield s
+
+
+def test_topic_info_counts_publishers_and_subscriptions(forward, capsys) -> None:  # noqa: ANN001
+    topic("info /fwd/commands")
+    assert _out(capsys) == "Type: std_msgs/msg/Float64MultiArray\nPublisher count: 0\nSubscription count: 1\n"
+    topic("info /fwd/commands -v")
+    out = _out(capsys)
+    assert "Subscription count: 1\n\nNode name: fwd\nNode namespace: /\n" in out
+    assert "Endpoint type: SUBSCRIPTION" in out and "Endpoint type: PUBLISHER" not in out
+
+
+def test_topic_info_of_an_unknown_topic_suggests_the_close_name(forward, capsys) -> None:  # noqa: ANN001
+    topic("info /fwd/comands")
+    assert _out(capsys) == "Unknown topic '/fwd/comands'; did you mean '/fwd/commands'?\n"
+
+
+def test_topic_hz_measures_the_rate_on_simulated_time(forward, capsys) -> None:  # noqa: ANN001
+    start = forward.time
+    topic("hz /joint_states --duration 2")
+    out = _out(capsys)
+    assert forward.time == pytest.approx(start + 2.0)
+    assert forward.bus.subscription_count("/joint_states") == 0  # the listener is gone again
+    first, second = out.splitlines()[:2]
+    assert first == "average rate: 50.000"
+    assert second.startswith("\tmin: 0.020s max: 0.020s std dev: 0.00000s window: ")
+
+
+def test_topic_hz_without_messages_says_so(forward, capsys) -> None:  # noqa: ANN001
+    topic("hz /fwd/commands --duration 0.1")
+    assert "0 message(s) on '/fwd/commands'" in _out(capsys)
+    topic("hz /fwd/commands --duration 0")
+    assert "--duration must be > 0" in _out(capsys)
 
 
 def test_load_ipython_extension_registers_both_magics() -> None:

@@ -8,7 +8,7 @@ import pytest
 
 from rrbot_workshop.exceptions import MessageError
 from rrbot_workshop.middleware.topics import Node, TopicBus, resolve_name
-from rrbot_workshop.msgs import Float64, Float64MultiArray, SetBoolRequest, SetBoolResponse, String
+from rrbot_workshop.msgs import Float64, Float64MultiArray, JointState, SetBoolRequest, SetBoolResponse, String
 
 
 @pytest.mark.parametrize(
@@ -134,3 +134,38 @@ def test_topic_list_reports_ros_type_names() -> None:
     bus = TopicBus()
     bus.create_publisher(JointState, "/joint_states")
     assert bus.topic_names_and_types() == [("/joint_states", "sensor_msgs/msg/JointState")]
+
+
+def test_publishing_where_nobody_listens_warns_once_with_the_close_name(caplog: pytest.LogCaptureFixture) -> None:
+    bus = TopicBus()
+    bus.create_subscription(Float64MultiArray, "/forward_position_controller/commands", lambda m: None, owner="fwd")
+    with caplog.at_level(logging.WARNING, logger="rrbot_workshop.middleware.topics"):
+        bus.publish("/forward_position_controler/commands", Float64MultiArray(data=[0.7]))
+        bus.publish("/forward_position_controler/commands", Float64MultiArray(data=[0.8]))
+        bus.publish("/forward_position_controller/commands", Float64MultiArray(data=[0.9]))
+    warnings = [r.getMessage() for r in caplog.records]
+    assert warnings == [
+        "no subscriber on '/forward_position_controler/commands'; did you mean '/forward_position_controller/commands'?"
+    ]
+    assert bus.latest("/forward_position_controler/commands").data == [0.8]  # still kept as its latest
+
+
+def test_no_subscriber_warning_without_a_close_name(caplog: pytest.LogCaptureFixture) -> None:
+    bus = TopicBus()
+    with caplog.at_level(logging.WARNING, logger="rrbot_workshop.middleware.topics"):
+        bus.publish("/lonely", Float64MultiArray(data=[1.0]))
+    assert [r.getMessage() for r in caplog.records] == [
+        "no subscriber on '/lonely' (the message is kept as its latest; nobody receives it)"
+    ]
+
+
+def test_publisher_and_subscription_owners() -> None:
+    bus = TopicBus()
+    bus.create_publisher(JointState, "/joint_states", owner="joint_state_broadcaster")
+    bus.create_subscription(JointState, "/joint_states", lambda m: None, owner="viewer")
+    assert (bus.publisher_count("/joint_states"), bus.subscription_count("/joint_states")) == (1, 1)
+    assert bus.publisher_owners("/joint_states") == ["joint_state_broadcaster"]
+    assert bus.subscription_owners("/joint_states") == ["viewer"]
+    assert bus.topic_type_name("/joint_states") == "sensor_msgs/msg/JointState"
+    assert bus.topic_type_name("/nope") is None
+    assert bus.similar_topics("/joint_state") == ["/joint_states"]

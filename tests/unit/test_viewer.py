@@ -174,10 +174,11 @@ def test_close_stops_following_the_bus():
 def test_sliders_span_joint_limits_and_move_the_robot():
     viewer = _offline()
     box = viewer.sliders()
-    j1, j2 = box.children
+    j1, j2, status = box.children
     assert (j2.description, j2.min, j2.max) == ("joint2", -2.0, 2.0)
     j1.value = 0.4
     assert viewer.joint_positions["joint1"] == pytest.approx(0.4)
+    assert status.value == ""
 
 
 # ------------------------------------------------------------------------------------------ recording
@@ -429,3 +430,68 @@ def test_link_poses_are_finite_after_many_updates():
     for q in np.linspace(-3, 3, 50):
         viewer.set_joint_positions({"joint1": q, "joint2": q / 2})
     assert all(np.isfinite(p).all() for p in viewer.link_poses().values())
+
+
+# ------------------------------------------------------------------------------------------ re-run cells
+def _children() -> set[int]:
+    """Process ids whose parent is this process (read from /proc)."""
+    me, found = os.getpid(), set()
+    for entry in os.listdir("/proc"):
+        if entry.isdigit():
+            try:
+                with open(f"/proc/{entry}/stat") as f:
+                    fields = f.read().rsplit(")", 1)[1].split()
+            except OSError:
+                continue
+            if int(fields[1]) == me and fields[0] != "Z":
+                found.add(int(entry))
+    return found
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="reads /proc")
+def test_rerunning_a_viewer_cell_reuses_its_server_and_leaks_no_process():
+    before_servers, before_children = len(live_servers()), _children()
+    first = Viewer(TWO_LINK_URDF)
+    url, pid = first.url, first.server_pid
+    assert len(live_servers()) == before_servers + 1
+    for _ in range(3):  # the cell `viewer = rw.viz.Viewer(urdf)` run three more times
+        latest = Viewer(TWO_LINK_URDF)
+    assert len(live_servers()) == before_servers + 1
+    assert _children() - before_children == {pid}
+    assert (latest.url, latest.server_pid) == (url, pid)
+    assert first.closed and first.url is None and not latest.closed
+    first.close()  # closing a replaced viewer leaves the server to its new owner
+    assert latest.url == url and _children() - before_children == {pid}
+    latest.close()
+    assert live_servers()[before_servers:] == [] and _children() - before_children == set()
+
+
+def test_a_viewer_of_another_robot_name_gets_its_own_server():
+    one = Viewer(TWO_LINK_URDF)
+    other = Viewer(TWO_LINK_URDF, prefix="left")
+    assert one.server_pid != other.server_pid and not one.closed
+    one.close()
+    other.close()
+
+
+def test_sliders_of_a_closed_viewer_say_so_and_move_nothing():
+    viewer = _offline()
+    box = viewer.sliders()
+    *sliders, status = box.children
+    assert status.value == ""
+    viewer.close()
+    assert all(s.disabled for s in sliders)
+    assert "closed" in status.value and "move nothing" in status.value
+    status.value = ""
+    sliders[0].value = 0.9
+    assert viewer.joint_positions["joint1"] == 0.0
+    assert "move nothing" in status.value
+
+
+def test_sliders_of_a_replaced_viewer_point_to_the_new_one():
+    first = Viewer(TWO_LINK_URDF)
+    *sliders, status = first.sliders().children
+    second = Viewer(TWO_LINK_URDF)
+    assert all(s.disabled for s in sliders)
+    assert "replaced by a newer viewer of 'twolink'" in status.value and "new viewer" in status.value
+    second.close()

@@ -1,0 +1,96 @@
+"""Short tracebacks in notebooks: a library error shows its clear line first, then where *you* called it.
+
+An :class:`~rrbot_workshop.RRBotWorkshopError` raised deep inside the library (a xacro expansion, a
+controller switch) would otherwise print dozens of frames of library code before the one line that says
+what is wrong. ``%load_ext rrbot_workshop`` registers :func:`short_traceback` as IPython's handler for
+these errors: it prints
+
+* the error's type and message, the clear line, first;
+* the frames of the learner's code only: notebook cells and files outside the library and Python itself;
+* how many library frames were left out, and that ``%tb`` prints the full traceback.
+
+Any other exception keeps IPython's usual traceback.
+"""
+
+from __future__ import annotations
+
+import os
+import sysconfig
+import traceback
+from pathlib import Path
+from types import TracebackType
+from typing import Any
+
+from rrbot_workshop.exceptions import RRBotWorkshopError
+
+__all__ = ["is_learner_frame", "short_traceback_lines", "short_traceback", "register"]
+
+_PACKAGE_DIR = Path(__file__).resolve().parent.parent
+
+
+def _python_dirs() -> list[Path]:
+    dirs = set()
+    for key in ("stdlib", "platstdlib", "purelib", "platlib"):
+        path = sysconfig.get_paths().get(key)
+        if path:
+            dirs.add(Path(path).resolve())
+    return sorted(dirs)
+
+
+_PYTHON_DIRS = _python_dirs()
+
+
+def is_learner_frame(filename: str) -> bool:
+    """True for a frame of the learner's code: a notebook cell or a file outside the library and Python."""
+    if not filename or filename.startswith("<frozen"):
+        return False
+    if filename.startswith("<"):  # "<string>", "<ipython-input-...>": code typed by someone
+        return True
+    path = Path(filename).resolve()
+    return not any(path.is_relative_to(d) for d in (_PACKAGE_DIR, *_PYTHON_DIRS))
+
+
+def _where(frame: traceback.FrameSummary, shell: Any = None) -> str:
+    compiler = getattr(shell, "compile", None)
+    label = None
+    if compiler is not None and hasattr(compiler, "format_code_name"):
+        label = compiler.format_code_name(frame.filename)
+    place = f"{label[0]} {label[1]}" if label else os.path.basename(frame.filename)
+    code = f": {frame.line.strip()}" if frame.line else ""
+    return f"  {place}, line {frame.lineno}{code}"
+
+
+def short_traceback_lines(value: BaseException, tb: TracebackType | None, shell: Any = None) -> list[str]:
+    """The lines of the short traceback of ``value``: its clear line, the learner's frames, how to see all.
+
+    Args:
+        value: The exception.
+        tb: Its traceback.
+        shell: The IPython shell, to name notebook cells ``Cell In[5]`` (optional).
+    """
+    frames = traceback.extract_tb(tb)
+    mine = [f for f in frames if is_learner_frame(f.filename)]
+    lines = [f"{type(value).__name__}: {value}"]
+    lines += [_where(f, shell) for f in mine[-3:]]
+    hidden = len(frames) - len(mine[-3:])
+    if hidden:
+        what = "frame" if hidden == 1 else "frames"
+        lines.append(f"({hidden} {what} inside rrbot_workshop and Python left out; run %tb for the full traceback)")
+    return lines
+
+
+def short_traceback(
+    shell: Any, etype: type[BaseException], value: BaseException, tb: TracebackType | None, tb_offset: Any = None
+) -> list[str]:
+    """IPython custom exception handler: show the short traceback, keep the full one for ``%tb``."""
+    shell._get_exc_info((etype, value, tb))  # sets sys.last_* so that %tb shows the whole traceback
+    stb = short_traceback_lines(value, tb, shell)
+    shell._showtraceback(etype, value, stb)
+    return stb
+
+
+def register(ipython: Any) -> None:
+    """Make ``ipython`` show :class:`RRBotWorkshopError` (and its subclasses) with :func:`short_traceback`."""
+    if hasattr(ipython, "set_custom_exc"):
+        ipython.set_custom_exc((RRBotWorkshopError,), short_traceback)
+

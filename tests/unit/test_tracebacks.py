@@ -1,0 +1,79 @@
+"""Short tracebacks of library errors in notebooks (%load_ext rrbot_workshop), with %tb for the full one."""
+
+from __future__ import annotations
+
+import textwrap
+from pathlib import Path
+
+import pytest
+from IPython.core.interactiveshell import InteractiveShell
+
+import rrbot_workshop as rw
+from rrbot_workshop.course.tracebacks import is_learner_frame, short_traceback_lines
+
+BROKEN_XACRO = textwrap.dedent(
+    """\
+    <?xml version="1.0"?>
+    <robot xmlns:xacro="http://www.ros.org/wiki/xacro" name="r">
+      <link name="${undefined_property * 2}"/>
+    </robot>
+    """
+)
+
+
+@pytest.fixture(scope="module")
+def shell():
+    ip = InteractiveShell.instance()
+    ip.run_line_magic("load_ext", "rrbot_workshop")
+    yield ip
+    ip.set_custom_exc((), None)
+
+
+def test_library_error_in_a_cell_shows_the_clear_line_first_and_the_cells_frame(shell, tmp_path: Path, capsys):
+    xacro = tmp_path / "broken.urdf.xacro"
+    xacro.write_text(BROKEN_XACRO, encoding="utf-8")
+    result = shell.run_cell(f"import rrbot_workshop as rw\nurdf = rw.description.process_xacro({str(xacro)!r})\n")
+    out = capsys.readouterr().out
+    assert isinstance(result.error_in_exec, rw.DescriptionError)
+    lines = [line for line in out.splitlines() if line.strip()]
+    assert lines[0].startswith("DescriptionError: ") and "undefined_property" in lines[0]
+    assert "line 2: urdf = rw.description.process_xacro(" in lines[1]
+    assert "run %tb for the full traceback" in lines[-1]
+    assert "rrbot_workshop/description" not in out  # no library frame
+
+
+def test_percent_tb_then_shows_the_full_traceback(shell, capsys):
+    shell.run_cell("import rrbot_workshop as rw\nrw.params.load_controllers_yaml('/no/such/file.yaml')\n")
+    short = capsys.readouterr().out
+    shell.run_cell("%tb")
+    full = capsys.readouterr().out
+    assert "rrbot_workshop" in full and "params" in full
+    assert len(full.splitlines()) > len(short.splitlines())
+
+
+def test_other_exceptions_keep_ipythons_traceback(shell, capsys):
+    shell.run_cell("def f():\n    raise ValueError('plain')\nf()\n")
+    out = capsys.readouterr().out
+    assert "ValueError" in out and "run %tb" not in out
+
+
+def test_learner_frames_are_cells_and_files_outside_the_library():
+    assert is_learner_frame("/tmp/ipykernel_1/123.py")
+    assert is_learner_frame("/home/me/course/exercises/task02/rrbot_bringup/bringup.py")
+    assert not is_learner_frame(rw.__file__)
+    assert not is_learner_frame(pytest.__file__)
+    assert not is_learner_frame("<frozen importlib._bootstrap>")
+
+
+def test_short_lines_of_an_error_raised_in_a_learners_file(tmp_path: Path):
+    learner = tmp_path / "answers.py"
+    learner.write_text("import rrbot_workshop as rw\n\ndef go():\n    rw.params.load_controllers_yaml('/nope.yaml')\n")
+    code = compile(learner.read_text(), str(learner), "exec")
+    namespace: dict = {}
+    exec(code, namespace)
+    with pytest.raises(rw.RRBotWorkshopError) as info:
+        namespace["go"]()
+    lines = short_traceback_lines(info.value, info.value.__traceback__)
+    assert lines[0] == f"{type(info.value).__name__}: {info.value}"
+    assert "  answers.py, line 4: rw.params.load_controllers_yaml('/nope.yaml')" in lines
+    assert not any("params" in line and "rrbot_workshop" in line for line in lines[1:-1])
