@@ -13,10 +13,9 @@ Two controllers and three aliases, as in ros2_controllers (Jazzy):
 Commands arrive on ``~/commands``. The buffer starts as NaN on activation and deactivation; while every
 entry is NaN nothing is written.
 
-Deliberate difference from Jazzy: a message of the wrong size is rejected (and logged with the expected
-and received sizes) in the subscription callback. Jazzy stores it and then returns ERROR from ``update``,
-which makes the controller manager deactivate the controller; here the controller keeps running with
-the last valid command. Messages with non-finite values are dropped, as in Jazzy.
+A message of the wrong size is kept as the latest command, as in Jazzy: the next ``update`` logs the expected and
+received sizes and returns ERROR, so the controller manager deactivates the controller (a later message of the
+right size, before that update, replaces it). Messages with non-finite values are dropped.
 """
 
 from __future__ import annotations
@@ -56,6 +55,7 @@ class ForwardControllersBase(ControllerInterface):
         self.command_interface_types: list[str] = []
         self.rejected_messages = 0
         self._command: list[float] = []
+        self._size_error: str | None = None  # set by a wrong-size message until the next update
         self._subscription: Subscription | None = None
 
     def read_parameters(self) -> bool:
@@ -92,11 +92,13 @@ class ForwardControllersBase(ControllerInterface):
         expected = len(self.command_interface_types)
         if len(msg.data) != expected:
             self.rejected_messages += 1
-            self.logger.error(
-                "'%s': rejected a command on ~/commands: field 'data' has %d values, expected %d (one per "
-                "interface in %s)", self.get_name(), len(msg.data), expected, self.command_interface_types,
+            self._size_error = (
+                f"'{self.get_name()}': the command on ~/commands has {len(msg.data)} values in field 'data', "
+                f"expected {expected} (one per interface in {self.command_interface_types}); update() returns "
+                "ERROR and the controller manager deactivates this controller"
             )
             return
+        self._size_error = None
         bad = [i for i, v in enumerate(msg.data) if not _is_finite(v)]
         if bad:
             self.rejected_messages += 1
@@ -110,15 +112,20 @@ class ForwardControllersBase(ControllerInterface):
     def on_activate(self, previous_state: State) -> CallbackReturn:
         """Start from an empty (NaN) command: nothing is written until a message arrives."""
         self._command = [math.nan] * len(self.command_interface_types)
+        self._size_error = None
         return CallbackReturn.SUCCESS
 
     def on_deactivate(self, previous_state: State) -> CallbackReturn:
         """Forget the last command."""
         self._command = [math.nan] * len(self.command_interface_types)
+        self._size_error = None
         return CallbackReturn.SUCCESS
 
     def update(self, time: float, period: float) -> ReturnType:
-        """Write the latest command, unless none has arrived since activation."""
+        """Write the latest command, unless none has arrived since activation; ERROR if it had the wrong size."""
+        if self._size_error is not None:
+            self.logger.error("%s", self._size_error)
+            return ReturnType.ERROR
         if all(math.isnan(v) for v in self._command):
             return ReturnType.OK
         for loan, value in zip(self.command_interfaces, self._command, strict=False):

@@ -15,9 +15,9 @@ Commands arrive on ``~/commands`` (``control_msgs/DynamicInterfaceGroupValues``:
 GPIO names, ``interface_values[i]`` their interface names and values). The last accepted message is
 written every cycle until the controller is deactivated. States are published on ``~/gpio_states``.
 
-Deliberate differences from Jazzy: a message whose names and values do not pair up is rejected in the
-subscription callback (Jazzy returns ERROR from ``update``, which stops the controller); entries naming
-an interface this controller does not command are skipped with a logged warning, as Jazzy does.
+As in Jazzy, a message whose names and values do not pair up makes the next ``update`` log why and return ERROR,
+so the controller manager deactivates the controller; entries naming an interface this controller does not command
+are skipped with a logged warning.
 """
 
 from __future__ import annotations
@@ -98,6 +98,7 @@ gpio_command_controller_parameters:
         self.state_interface_types: list[str] = []
         self._state_layout: list[tuple[str, list[str]]] = []
         self._command: dict[str, float] | None = None
+        self._message_error: str | None = None  # set by a malformed message until the next update
         self._sub: Subscription | None = None
         self._pub: Publisher | None = None
 
@@ -145,16 +146,16 @@ gpio_command_controller_parameters:
     def _on_commands(self, msg: DynamicInterfaceGroupValues) -> None:
         name = self.get_name()
         if len(msg.interface_groups) != len(msg.interface_values):
-            self.logger.error(
-                "'%s': rejected a message on ~/commands: field 'interface_groups' has %d entries but "
-                "'interface_values' has %d", name, len(msg.interface_groups), len(msg.interface_values))
+            self._message_error = (
+                f"'{name}': the message on ~/commands has {len(msg.interface_groups)} entries in 'interface_groups' "
+                f"but {len(msg.interface_values)} in 'interface_values'; one list of values per GPIO is needed")
             return
         command: dict[str, float] = {}
         for gpio, group in zip(msg.interface_groups, msg.interface_values, strict=True):
             if len(group.interface_names) != len(group.values):
-                self.logger.error(
-                    "'%s': rejected a message on ~/commands: for GPIO '%s', 'interface_names' has %d entries "
-                    "but 'values' has %d", name, gpio, len(group.interface_names), len(group.values))
+                self._message_error = (
+                    f"'{name}': in the message on ~/commands, GPIO '{gpio}' has {len(group.interface_names)} entries in "
+                    f"'interface_names' but {len(group.values)} in 'values'")
                 return
             for itf, value in zip(group.interface_names, group.values, strict=True):
                 full = f"{gpio}/{itf}"
@@ -164,20 +165,23 @@ gpio_command_controller_parameters:
                     self.logger.warning(
                         "'%s': ~/commands names '%s', which this controller does not command (valid: %s); "
                         "that value is skipped", name, full, self.command_interface_types)
+        self._message_error = None
         self._command = command
 
     def on_activate(self, previous_state: State) -> CallbackReturn:
         """Forget commands received before activation."""
         self._command = None
+        self._message_error = None
         return CallbackReturn.SUCCESS
 
     def on_deactivate(self, previous_state: State) -> CallbackReturn:
         """Forget the last command."""
         self._command = None
+        self._message_error = None
         return CallbackReturn.SUCCESS
 
     def update(self, time: float, period: float) -> ReturnType:
-        """Publish the GPIO states, then write the last accepted command."""
+        """Publish the GPIO states, then write the last accepted command (ERROR after a malformed message)."""
         if self._pub is not None:
             msg = DynamicInterfaceGroupValues(header=Header(stamp=time))
             start = 0
@@ -188,6 +192,9 @@ gpio_command_controller_parameters:
                 msg.interface_groups.append(gpio)
                 msg.interface_values.append(InterfaceValue(interface_names=list(itfs), values=values))
             self._pub.publish(msg)
+        if self._message_error is not None:
+            self.logger.error("%s; update() returns ERROR", self._message_error)
+            return ReturnType.ERROR
         if self._command:
             for loan in self.command_interfaces:
                 if loan.name in self._command:

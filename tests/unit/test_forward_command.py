@@ -62,22 +62,41 @@ def test_last_command_is_written_every_cycle():
     assert h.value("joint1/position") == 10.0
 
 
-def test_size_mismatch_is_rejected_with_sizes_logged(caplog):
+def test_size_mismatch_makes_update_return_error_with_sizes_logged(caplog):
+    """Jazzy (forward_controllers_base.cpp): the wrong-size command is stored; update() logs and returns ERROR."""
     h = _active()
+    h.publish("~/commands", Float64MultiArray(data=[10.0, 20.0]))
     with caplog.at_level(logging.ERROR):
-        h.publish("~/commands", Float64MultiArray(data=[10.0, 20.0]))
-    assert "has 2 values, expected 3" in caplog.text and "'data'" in caplog.text
-    assert h.update() is ReturnType.OK  # deliberate difference: Jazzy would return ERROR here
-    assert h.values(NAMES) == [1.1, 2.1, 3.1]
+        assert h.update() is ReturnType.ERROR
+    assert "has 2 values in field 'data', expected 3" in caplog.text
+    assert h.values(NAMES) == [1.1, 2.1, 3.1]  # nothing written
     assert h.controller.rejected_messages == 1
 
 
-def test_size_mismatch_keeps_previous_command():
+def test_a_right_size_message_replaces_a_wrong_one_before_the_update():
     h = _active()
-    h.publish("~/commands", Float64MultiArray(data=[10.0, 20.0, 30.0]))
     h.publish("~/commands", Float64MultiArray(data=[1.0, 2.0, 3.0, 4.0]))
-    h.update()
+    h.publish("~/commands", Float64MultiArray(data=[10.0, 20.0, 30.0]))
+    assert h.update() is ReturnType.OK
     assert h.values(NAMES) == [10.0, 20.0, 30.0]
+
+
+def test_wrong_size_command_deactivates_the_controller_in_the_manager(caplog):
+    """End to end on the mock RRBot: the controller manager deactivates the forward controller; the joints keep
+    their last command; re-activated, it waits for a new command."""
+    import rrbot_workshop as rw
+
+    with rw.bringup("rrbot", "rrbot_controllers.yaml", xacro_args={"use_mock_hardware": True},
+                    spawn=["joint_state_broadcaster", "forward_position_controller"]) as system:
+        system.publish("/forward_position_controller/commands", Float64MultiArray(data=[0.3, 0.4]))
+        system.spin(0.05)
+        with caplog.at_level(logging.ERROR):
+            system.publish("/forward_position_controller/commands", Float64MultiArray(data=[0.7]))
+            system.spin(0.05)
+        states = {c.name: c.state for c in system.controller_manager.list_controllers()}
+        assert states["forward_position_controller"] == "inactive"
+        assert "has 1 values in field 'data', expected 2" in caplog.text
+        assert list(system.latest("/joint_states").position) == [0.3, 0.4]
 
 
 @pytest.mark.parametrize("bad", [math.nan, math.inf, -math.inf])

@@ -7,6 +7,7 @@ import logging
 import pytest
 
 from rrbot_workshop.controllers.gpio_command import GpioCommandController, urdf_gpio_state_interfaces
+from rrbot_workshop.controller_interface.base import ReturnType
 from rrbot_workshop.exceptions import ParameterError
 from rrbot_workshop.middleware import plugins
 from rrbot_workshop.middleware.lifecycle import State
@@ -88,22 +89,24 @@ def test_states_published_per_gpio():
     assert msg.header.stamp == pytest.approx(0.01)
 
 
-def test_names_values_mismatch_rejected_with_reason(caplog):
+def test_names_values_mismatch_makes_update_return_error_with_reason(caplog):
+    """Jazzy (gpio_command_controller.cpp): a malformed command makes update() return ERROR; nothing is written."""
     h = _active()
     bad = DynamicInterfaceGroupValues(interface_groups=["gpio1"],
                                       interface_values=[InterfaceValue(["dig.1", "dig.2"], [1.0])])
+    h.publish("~/commands", bad)
     with caplog.at_level(logging.ERROR):
-        h.publish("~/commands", bad)
-    h.update()
+        assert h.update() is ReturnType.ERROR
     assert _commands(h) == [1.0, 0.0, 3.1]
-    assert "for GPIO 'gpio1', 'interface_names' has 2 entries but 'values' has 1" in caplog.text
+    assert "GPIO 'gpio1' has 2 entries in 'interface_names' but 1 in 'values'" in caplog.text
 
 
-def test_groups_values_mismatch_rejected(caplog):
+def test_groups_values_mismatch_makes_update_return_error(caplog):
     h = _active()
+    h.publish("~/commands", DynamicInterfaceGroupValues(interface_groups=["gpio1", "gpio2"], interface_values=[]))
     with caplog.at_level(logging.ERROR):
-        h.publish("~/commands", DynamicInterfaceGroupValues(interface_groups=["gpio1", "gpio2"], interface_values=[]))
-    assert "'interface_groups' has 2 entries but 'interface_values' has 0" in caplog.text
+        assert h.update() is ReturnType.ERROR
+    assert "has 2 entries in 'interface_groups' but 0 in 'interface_values'" in caplog.text
 
 
 def test_unknown_interface_skipped_with_warning(caplog):
