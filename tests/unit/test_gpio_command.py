@@ -6,8 +6,8 @@ import logging
 
 import pytest
 
-from rrbot_workshop.controllers.gpio_command import GpioCommandController, urdf_gpio_state_interfaces
 from rrbot_workshop.controller_interface.base import ReturnType
+from rrbot_workshop.controllers.gpio_command import GpioCommandController, urdf_gpio_state_interfaces
 from rrbot_workshop.exceptions import ParameterError
 from rrbot_workshop.middleware import plugins
 from rrbot_workshop.middleware.lifecycle import State
