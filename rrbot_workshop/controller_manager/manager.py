@@ -85,6 +85,8 @@ class ControllerManager:
         self.robot_description = robot_description
         self.clock = clock if clock is not None else SimClock(self.update_rate)
         self.handle_exceptions = bool(self.params.manager_parameters.get("handle_exceptions", handle_exceptions))
+        #: Jazzy's ``enforce_command_limits`` (default false): limit commands from the description before write.
+        self.enforce_command_limits = bool(self.params.manager_parameters.get("enforce_command_limits", False))
         self._controllers: dict[str, ControllerSpec] = {}
         self._order: list[str] = []
         self._hooks: list[CycleHook] = []
@@ -244,7 +246,10 @@ class ControllerManager:
             controller_loop.hardware_failed(self, status.failed_hardware_names, "read")
 
     def write(self, time: float, period: float) -> None:
-        """Write all hardware; controllers using failed hardware are deactivated."""
+        """Write all hardware (commands limited first if ``enforce_command_limits``); controllers using failed
+        hardware are deactivated."""
+        if self.enforce_command_limits:
+            self.resource_manager.enforce_command_limits(period)
         status = self.resource_manager.write(time, period)
         if not status.ok:
             controller_loop.hardware_failed(self, status.failed_hardware_names, "write")

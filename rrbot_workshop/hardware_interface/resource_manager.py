@@ -24,6 +24,7 @@ This class holds the components and their lifecycles; the interface API it offer
 from __future__ import annotations
 
 import logging
+import math
 from collections.abc import Mapping, Sequence
 from typing import Any
 
@@ -31,6 +32,7 @@ from rrbot_workshop.description.info import HardwareInfo
 from rrbot_workshop.exceptions import HardwareError
 from rrbot_workshop.hardware_interface import resource_mode_switch
 from rrbot_workshop.hardware_interface.hardware_component import HardwareComponent, HardwareComponentInfo
+from rrbot_workshop.hardware_interface.joint_limits import JointCommandLimiter
 from rrbot_workshop.hardware_interface.resource_cycle import HardwareReadWriteStatus, read_or_write
 from rrbot_workshop.hardware_interface.resource_interfaces import ResourceInterfaces
 from rrbot_workshop.hardware_interface.resource_loading import ComponentEntry, check_infos, cycle_order, load_component
@@ -71,6 +73,8 @@ class ResourceManager(ResourceInterfaces):
         self.last_switch_error = ""
         self._entries: dict[str, ComponentEntry] = {}
         self._cycle_order: list[ComponentEntry] = []
+        #: Joint limiters by component name, built on the first enforce_command_limits() after a load.
+        self._limiters: dict[str, list[tuple[JointCommandLimiter, dict[str, str], dict[str, str]]]] = {}
         if urdf is not None:
             self.load_urdf(urdf)
 
@@ -235,6 +239,45 @@ class ResourceManager(ResourceInterfaces):
         """
         return read_or_write("read", self._cycle_order, time, period, self.update_rate, self._storage,
                              self.set_component_state)
+
+    def enforce_command_limits(self, period: float) -> None:
+        """Limit every active component's joint commands (see :mod:`~rrbot_workshop.hardware_interface.joint_limits`).
+
+        The controller manager calls this before :meth:`write` when its parameter ``enforce_command_limits`` is true.
+
+        Args:
+            period: Controller manager period in [s].
+        """
+        storage = self._storage
+        for entry in self._cycle_order:
+            if entry.component.get_lifecycle_state() is not State.ACTIVE:
+                self._limiters.pop(entry.info.name, None)  # start afresh when it comes back
+                continue
+            limiters = self._limiters.get(entry.info.name)
+            if limiters is None:
+                limiters = self._limiters[entry.info.name] = self._build_limiters(entry)
+            for limiter, command_names, state_names in limiters:
+                commands = {kind: storage.commands[name].get_value() for kind, name in command_names.items()}
+                states = {kind: float(storage.states[name].get_value()) for kind, name in state_names.items()}
+                for kind, value in limiter.enforce(commands, states, period).items():
+                    if value != commands[kind] and not (math.isnan(value) and math.isnan(commands[kind])):
+                        storage.commands[command_names[kind]].set_value(value)
+
+    def _build_limiters(self, entry: ComponentEntry) -> list[tuple[JointCommandLimiter, dict[str, str], dict[str, str]]]:
+        out = []
+        for joint in entry.info.joints:
+            limits = entry.info.limits.get(joint.name)
+            if limits is None:
+                continue
+            commands = {kind: f"{joint.name}/{kind}" for kind in ("position", "velocity", "effort")
+                        if f"{joint.name}/{kind}" in entry.command_names}
+            if not commands:
+                continue
+            states = {kind: f"{joint.name}/{kind}" for kind in ("position", "velocity")
+                      if f"{joint.name}/{kind}" in self._storage.states}
+            soft = entry.info.soft_limits.get(joint.name)
+            out.append((JointCommandLimiter(joint.name, limits, soft), commands, states))
+        return out
 
     def write(self, time: float, period: float) -> HardwareReadWriteStatus:
         """Write every component that is due this cycle (components write only while ACTIVE)."""
