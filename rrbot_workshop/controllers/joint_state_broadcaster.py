@@ -130,8 +130,9 @@ joint_state_broadcaster:
         self.joint_names: list[str] = []
         # per claimed state interface: (prefix, mapped name) the value goes to, or None if skipped
         self._targets: list[tuple[str, str] | None] = []
-        self._values: dict[str, dict[str, float]] = {}
-        self._dynamic_layout: list[tuple[str, list[str]]] = []
+        self._read: list[Any] = []  # the loans' get_value, in claim order (prepared at activation)
+        self._js_plan: list[list[int]] = []
+        self._dynamic_plan: list[tuple[str, list[str], list[int] | None]] = []
 
     def _use_all_available_interfaces(self) -> bool:
         return not self._joints or not self._interfaces
@@ -190,23 +191,26 @@ joint_state_broadcaster:
         return CallbackReturn.SUCCESS
 
     def on_activate(self, previous_state: State) -> CallbackReturn:
-        """Work out the joint names and the message layout from the assigned state interfaces."""
+        """Work out the joint names and the message layouts from the assigned state interfaces.
+
+        What a cycle needs is prepared here: the loans' read functions in order, and for each field of each message
+        the position of its value among the numbers read, so ``update`` only reads numbers.
+        """
         if not self.state_interfaces:
             self.logger.error("'%s': no state interfaces to publish; it cannot activate", self.get_name())
             return CallbackReturn.ERROR
-        self._values = {}
         self._targets = []
-        layout: dict[str, list[str]] = {}
-        for loan in self.state_interfaces:
+        where: dict[str, dict[str, int]] = {}  # prefix -> mapped field -> index among the values read
+        layout: dict[str, list[tuple[str, int]]] = {}
+        for index, loan in enumerate(self.state_interfaces):
             prefix, itf = loan.prefix_name, loan.interface_name
-            layout.setdefault(prefix, []).append(itf)
+            layout.setdefault(prefix, []).append((itf, index))
             if getattr(loan, "data_type", "double") not in ("double", "float32"):
                 self._targets.append(None)  # JointState fields are doubles
                 continue
             mapped = self._map.get(itf, itf)
-            self._values.setdefault(prefix, {})[mapped] = math.nan
+            where.setdefault(prefix, {})[mapped] = index
             self._targets.append((prefix, mapped))
-        self._dynamic_layout = list(layout.items())
 
         # Jazzy walks the interfaces backwards and reverses the result: each name sits at its last occurrence.
         names: list[str] = []
@@ -223,52 +227,70 @@ joint_state_broadcaster:
         names.reverse()
         if filter_with_urdf and self._urdf is not None:
             names = [j for j in self._urdf[1] if j in names]
+        extras = []
         for extra in self._extra_joints:
-            if extra not in self._values and extra not in layout:
-                self._values[extra] = {f: 0.0 for f in _JOINT_STATE_FIELDS}
-                self._dynamic_layout.append((extra, list(_JOINT_STATE_FIELDS)))
+            if extra not in where and extra not in layout:
+                extras.append(extra)
                 names.append(extra)
         self.joint_names = names
+        self._read = [loan.get_value for loan in self.state_interfaces]
+        # JointState: per field, for each joint, the index of its value (-1: NaN, -2: an extra joint's 0.0)
+        self._js_plan = [
+            [-2 if j in extras else where.get(j, {}).get(f, -1) for j in names] for f in _JOINT_STATE_FIELDS
+        ]
+        # DynamicJointState: (prefix, interface names, value indices or None for an extra joint)
+        self._dynamic_plan = [(prefix, [i for i, _ in itfs], [k for _, k in itfs]) for prefix, itfs in layout.items()]
+        self._dynamic_plan += [(extra, list(_JOINT_STATE_FIELDS), None) for extra in extras]
         return CallbackReturn.SUCCESS
 
     def on_deactivate(self, previous_state: State) -> CallbackReturn:
         """Forget the layout; it is rebuilt on the next activation."""
         self.joint_names = []
-        self._values = {}
         self._targets = []
-        self._dynamic_layout = []
+        self._read = []
+        self._js_plan = []
+        self._dynamic_plan = []
         return CallbackReturn.SUCCESS
 
     def update(self, time: float, period: float) -> ReturnType:
-        """Copy the state values into the two messages and publish them, stamped with ``time``."""
-        raw: dict[str, dict[str, Any]] = {}
-        for loan, target in zip(self.state_interfaces, self._targets, strict=True):
-            value = loan.get_value()
-            raw.setdefault(loan.prefix_name, {})[loan.interface_name] = value
-            if target is not None:
-                self._values[target[0]][target[1]] = float(value)
+        """Read the state values and publish the two messages, stamped with ``time``.
+
+        The messages are built when someone reads them (a subscriber, ``system.latest``, a recorder); the values are
+        the ones read in this cycle.
+        """
+        values = [read() for read in self._read]
         if self._joint_state_pub is not None:
-            msg = JointState(header=Header(stamp=time, frame_id=self._frame_id), name=list(self.joint_names))
-            for joint in self.joint_names:
-                fields = self._values.get(joint, {})
-                msg.position.append(fields.get("position", math.nan))
-                msg.velocity.append(fields.get("velocity", math.nan))
-                msg.effort.append(fields.get("effort", math.nan))
-            self._joint_state_pub.publish(msg)
+            names, plan, frame = self.joint_names, self._js_plan, self._frame_id  # this cycle's layout, kept with it
+            self._joint_state_pub.publish_lazy(lambda: _joint_state(time, frame, names, plan, values))
         if self._dynamic_pub is not None:
-            # Jazzy lists the *mapped* names here (and in unordered_map order); we keep the real interface
-            # names in claim order, so the topic shows what the hardware exports.
-            dyn = DynamicJointState(header=Header(stamp=time, frame_id=self._frame_id))
-            for prefix, itfs in self._dynamic_layout:
-                values = raw.get(prefix)
-                if values is None:  # an extra joint
-                    vals = [self._values[prefix][i] for i in itfs]
-                else:
-                    vals = [_as_float(values[i]) for i in itfs]
-                dyn.joint_names.append(prefix)
-                dyn.interface_values.append(InterfaceValue(interface_names=list(itfs), values=vals))
-            self._dynamic_pub.publish(dyn)
+            dynamic, frame = self._dynamic_plan, self._frame_id
+            self._dynamic_pub.publish_lazy(lambda: _dynamic_joint_state(time, frame, dynamic, values))
         return ReturnType.OK
+
+
+def _joint_state(time: float, frame: str, names: list[str], plan: list[list[int]], values: list[Any]) -> JointState:
+    fields = [[_pick(values, k) for k in indices] for indices in plan]
+    return JointState(header=Header(stamp=time, frame_id=frame), name=list(names),
+                      position=fields[0], velocity=fields[1], effort=fields[2])
+
+
+def _dynamic_joint_state(
+    time: float, frame: str, plan: list[tuple[str, list[str], list[int] | None]], values: list[Any]
+) -> DynamicJointState:
+    # Jazzy lists the *mapped* names here (and in unordered_map order); we keep the real interface names in claim
+    # order, so the topic shows what the hardware exports.
+    msg = DynamicJointState(header=Header(stamp=time, frame_id=frame))
+    for prefix, itfs, indices in plan:
+        vals = [0.0] * len(itfs) if indices is None else [_as_float(values[k]) for k in indices]
+        msg.joint_names.append(prefix)
+        msg.interface_values.append(InterfaceValue(interface_names=list(itfs), values=vals))
+    return msg
+
+
+def _pick(values: list[Any], index: int) -> float:
+    if index >= 0:
+        return float(values[index])
+    return math.nan if index == -1 else 0.0
 
 
 def _as_float(value: Any) -> float:

@@ -70,6 +70,26 @@ class Subscription:
         self._bus._remove_subscription(self._sub)
 
 
+class _Lazy:
+    """A message built on first read: the cycle stores the numbers, whoever reads the topic builds the message."""
+
+    __slots__ = ("_build", "_msg")
+
+    def __init__(self, build: Callable[[], Any]) -> None:
+        self._build: Callable[[], Any] | None = build
+        self._msg: Any = None
+
+    def get(self) -> Any:
+        if self._build is not None:
+            self._msg = self._build()
+            self._build = None
+        return self._msg
+
+
+def _resolved(item: Any) -> Any:
+    return item.get() if type(item) is _Lazy else item
+
+
 class Publisher:
     """Publishes messages of one type on one topic."""
 
@@ -90,6 +110,15 @@ class Publisher:
                 f"publisher on '{self.topic_name}' sends {self.msg_type.__name__}, got {type(msg).__name__}"
             )
         self._bus._publish(self.topic_name, msg)
+
+    def publish_lazy(self, build: Callable[[], Any]) -> None:
+        """Publish the message ``build()`` returns, building it only when someone reads it.
+
+        Subscribers get the built message at once (they read every message); ``latest``, ``history`` and the
+        recorders build it when they are asked. The message is the same as with :meth:`publish`; ``build`` must only
+        use values captured when it was created (the cycle's numbers), never live handles.
+        """
+        self._bus._publish_lazy(self.topic_name, build)
 
     def get_subscription_count(self) -> int:
         """Number of subscriptions on this topic."""
@@ -201,6 +230,17 @@ class TopicBus:
         if self._subs.get(topic):
             self._queue.append((topic, msg))
 
+    def _publish_lazy(self, topic: str, build: Callable[[], Any]) -> None:
+        if self._subs.get(topic):  # subscribers read every message: build it now
+            self._publish(topic, build())
+            return
+        item = _Lazy(build)
+        self._latest[topic] = item
+        hist = self._history.get(topic)
+        if hist is None:
+            hist = self._history[topic] = collections.deque(maxlen=self._history_depth)
+        hist.append(item)
+
     def publish(self, topic: str, msg: Any) -> None:
         """Publish ``msg`` on ``topic`` from outside any node (like ``ros2 topic pub``).
 
@@ -243,11 +283,11 @@ class TopicBus:
 
     def latest(self, topic: str) -> Any:
         """Last message published on ``topic``, or None."""
-        return self._latest.get(topic)
+        return _resolved(self._latest.get(topic))
 
     def history(self, topic: str) -> list[Any]:
         """Messages published on ``topic`` (at most ``history_depth``), oldest first."""
-        return list(self._history.get(topic, ()))
+        return [_resolved(item) for item in self._history.get(topic, ())]
 
     def clear_history(self, topic: str | None = None) -> None:
         """Forget the history of one topic, or of all."""
@@ -264,7 +304,7 @@ class TopicBus:
             if topic in self._types:
                 return ros_type_name(self._types[topic])
             if topic in self._latest:  # published from outside any node: the message tells its type
-                return ros_type_name(type(self._latest[topic]))
+                return ros_type_name(type(_resolved(self._latest[topic])))
             return "?"
 
         return sorted((t, type_name(t)) for t in topics)

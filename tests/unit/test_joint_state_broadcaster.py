@@ -222,3 +222,23 @@ def test_plugin_name_resolves():
 
 def test_on_init_succeeds_without_parameters():
     assert JointStateBroadcaster().on_init() is CallbackReturn.SUCCESS
+
+
+def test_a_message_read_after_deactivation_is_the_last_cycles() -> None:
+    """Messages are built when read: one read after the broadcaster stopped still shows the names and values of its
+    last cycle, and each message in the history keeps its own cycle's values."""
+    import rrbot_workshop as rw
+    from rrbot_workshop.msgs import Float64MultiArray
+
+    with rw.bringup("rrbot", "rrbot_controllers.yaml", xacro_args={"use_mock_hardware": True},
+                    spawn=["joint_state_broadcaster", "forward_position_controller"]) as system:
+        system.publish("/forward_position_controller/commands", Float64MultiArray(data=[0.3, 0.4]))
+        system.spin_cycles(3)
+        system.publish("/forward_position_controller/commands", Float64MultiArray(data=[0.5, 0.6]))
+        system.spin_cycles(3)
+        system.controller_manager.switch_controllers(deactivate=["joint_state_broadcaster"])
+        system.spin_cycles(3)
+        msg = system.latest("/joint_states")
+        history = [list(m.position) for m in system.history("/joint_states")]
+    assert msg.name == ["joint1", "joint2"] and list(msg.position) == [0.5, 0.6]
+    assert [0.3, 0.4] in history and history[-1] == [0.5, 0.6]
