@@ -2,7 +2,7 @@
 
 The steps follow ``controller_manager.cpp`` (Jazzy):
 
-1. unknown names: STRICT rejects, BEST_EFFORT drops them (rejects only if nothing known is left);
+1. unknown names: STRICT rejects, BEST_EFFORT drops them per list (rejects if a list has no known name left);
 2. followers of controllers being deactivated leave chained mode;
 3. each activation is checked (configured, not already active, every controller whose reference or
    exported state interfaces it uses is active or activated in the same switch, fallbacks configured);
@@ -87,6 +87,8 @@ class SwitchRequest:
         self.skipped: list[str] = []
         self.to_chained: set[str] = set()
         self.from_chained: set[str] = set()
+        #: Followers whose references an active controller claims after the switch: in chained mode then.
+        self.must_chain: set[str] = set()
 
     def state(self, name: str) -> State:
         """Lifecycle state of loaded controller ``name``."""
@@ -105,10 +107,17 @@ class SwitchRequest:
             if self.strict:
                 raise SwitchError(lines, controllers=unknown)
             self.skipped += lines
-            self.activate = [n for n in self.activate if n in loaded]
-            self.deactivate = [n for n in self.deactivate if n in loaded]
-            if not self.activate and not self.deactivate:
-                raise SwitchError(lines, controllers=unknown)
+            kept_activate = [n for n in self.activate if n in loaded]
+            kept_deactivate = [n for n in self.deactivate if n in loaded]
+            # best effort forgives unknown names one list at a time: a list none of whose names exists fails the
+            # whole request (the switch would otherwise do only the other half of what was asked)
+            emptied = [what for what, asked, kept in (("activate", self.activate, kept_activate),
+                                                       ("deactivate", self.deactivate, kept_deactivate))
+                       if asked and not kept]
+            if emptied:
+                raise SwitchError(lines + [f"no controller of the {what} list exists; nothing was switched"
+                                           for what in emptied], controllers=unknown)
+            self.activate, self.deactivate = kept_activate, kept_deactivate
 
         # steps 3-4, repeated until no best-effort drop changes the picture
         while True:
@@ -137,7 +146,11 @@ class SwitchRequest:
             self.skipped += all_reasons
             self.activate = [n for n in self.activate if n not in problems]
             self.deactivate = [n for n in self.deactivate if n not in problems]
-        self.from_chained -= self.to_chained
+        # to_chained holds every follower whose references an activated controller claims; only those not yet in
+        # chained mode change, and a follower that stays claimed (a chain head restarted) does not leave it.
+        self.must_chain = set(self.to_chained)
+        self.from_chained -= self.must_chain
+        self.to_chained = {f for f in self.must_chain if not loaded[f].controller.is_in_chained_mode()}
         if not self.activate and not self.deactivate:  # step 5
             return False
 

@@ -135,7 +135,7 @@ def _check_followers(
                 f"activate '{follower}' first or in the same switch"
             )
             continue
-        if kind == "reference" and not controllers[follower].controller.is_in_chained_mode():
+        if kind == "reference":  # it must be in chained mode after the switch (it may be already)
             chained.add(follower)
         if coming and follower not in visited:
             visited.add(follower)

@@ -43,15 +43,17 @@ def execute(request: SwitchRequest) -> SwitchResult:
     result = SwitchResult(skipped=list(request.skipped))
     was_chained = {
         n: controllers[n].controller.is_in_chained_mode()
-        for n in {*request.deactivate, *request.to_chained, *request.from_chained}
+        for n in {*request.deactivate, *request.must_chain, *request.from_chained}
         if controllers[n].controller.is_chainable()
     }
     for name in reversed(dependency_order(cm, request.deactivate)):  # users before the controllers they use
         deactivate_controller(rm, controllers[name])
         result.deactivated.append(name)
-    for name in sorted(request.to_chained):
-        if not controllers[name].controller.set_chained_mode(True):  # type: ignore[attr-defined]
-            _log.error("controller '%s' refused to enter chained mode", name)
+    for name in sorted(request.must_chain):  # including followers restarted here (deactivation unchains them)
+        ctrl = controllers[name].controller
+        if controllers[name].state is not State.ACTIVE and not ctrl.is_in_chained_mode():
+            if not ctrl.set_chained_mode(True):  # type: ignore[attr-defined]
+                _log.error("controller '%s' refused to enter chained mode", name)
     for name in sorted(request.from_chained):
         if controllers[name].state is not State.ACTIVE:
             controllers[name].controller.set_chained_mode(False)  # type: ignore[attr-defined]

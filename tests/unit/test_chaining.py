@@ -155,3 +155,28 @@ def test_a_broadcaster_reading_all_interfaces_is_not_a_preceding_controller() ->
                           "pid_controller_joint2": "inactive"}
     finally:
         system.shutdown()
+
+
+def test_restarting_the_head_of_a_chain_keeps_its_followers_chained() -> None:
+    """Deactivating and activating the JTC in one switch: the PIDs stay active and in chained mode, so their own
+    ~/reference topic cannot override the trajectory (after any switch, a controller whose references an active
+    controller claims is in chained mode)."""
+    from rrbot_workshop.bringup import bringup
+
+    system = bringup("rrbot", "rrbot_chained_controllers.yaml",
+                     xacro_args={"use_mock_hardware": True, "calculate_dynamics": True}, spawn=["joint_state_broadcaster"])
+    try:
+        system.spawn(["pid_controller_joint1", "pid_controller_joint2", "joint_trajectory_controller"],
+                     activate_as_group=True)
+        cm = system.controller_manager
+        for activate, deactivate in ((["joint_trajectory_controller"], ["joint_trajectory_controller"]),
+                                     (["joint_trajectory_controller", "pid_controller_joint1"],
+                                      ["joint_trajectory_controller", "pid_controller_joint1"])):
+            cm.switch_controllers(activate=activate, deactivate=deactivate, strictness="strict")
+            states = {c.name: (c.state, c.is_chained) for c in cm.list_controllers()}
+            assert states["pid_controller_joint1"] == ("active", True), states
+            assert states["pid_controller_joint2"] == ("active", True), states
+        cm.switch_controllers(deactivate=["joint_trajectory_controller"], strictness="strict")
+        assert not any(c.is_chained for c in cm.list_controllers())
+    finally:
+        system.shutdown()

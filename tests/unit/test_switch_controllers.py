@@ -202,3 +202,21 @@ def test_every_reason_is_listed() -> None:
         cm.switch_controllers(activate=["a", "b", "c"], strictness="strict")
     assert len(err.value.reasons) == 2
     assert any("nope/x" in r for r in err.value.reasons) and any("both claim" in r for r in err.value.reasons)
+
+
+def test_best_effort_with_a_list_of_unknown_names_changes_nothing() -> None:
+    """Best effort forgives unknown names per list: `--deactivate a --activate typo` is rejected as a whole (a running
+    controller is not stopped for a replacement that does not exist); `--activate real typo` activates `real`."""
+    from core_helpers import load_configure, make_cm
+
+    from rrbot_workshop.exceptions import SwitchError
+
+    cm = make_cm({"a": {"command_interfaces": ["joint1/position"]}, "b": {"command_interfaces": ["joint2/position"]}})
+    load_configure(cm, "a", "b")
+    cm.switch_controllers(activate=["a"], strictness="strict")
+    with pytest.raises(SwitchError, match="no controller of the activate list exists") as info:
+        cm.switch_controllers(activate=["a_typo"], deactivate=["a"], strictness="best_effort")
+    assert info.value.controllers == ["a_typo"]
+    assert {c.name: c.state for c in cm.list_controllers()} == {"a": "active", "b": "inactive"}
+    cm.switch_controllers(activate=["b", "b_typo"], strictness="best_effort")
+    assert {c.name: c.state for c in cm.list_controllers()} == {"a": "active", "b": "active"}
