@@ -43,6 +43,9 @@ def required_interfaces(rm: ResourceManager, spec: ControllerSpec, kind: str) ->
     except Exception:  # noqa: BLE001
         _log.error("%s_interface_configuration of '%s' raised:\n%s", kind, spec.name, traceback.format_exc())
         return []
+    if not hasattr(cfg, "type") or not hasattr(cfg, "names"):  # learner code returning something else: needs nothing
+        _log.error("%s_interface_configuration of '%s' returned %r, not an InterfaceConfiguration", kind, spec.name, cfg)
+        return []
     if cfg.type is InterfaceConfigurationType.NONE:
         return []
     if cfg.type is InterfaceConfigurationType.ALL:

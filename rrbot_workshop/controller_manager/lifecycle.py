@@ -11,7 +11,7 @@ The controller manager keeps the registry and the update order around these step
 from __future__ import annotations
 
 import logging
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from rrbot_workshop.controller_manager.spec import ControllerSpec
 from rrbot_workshop.exceptions import ControllerError, ControllerNotFound, LifecycleError, PluginNotFound
@@ -88,6 +88,10 @@ def configure(rm: ResourceManager, spec: ControllerSpec) -> None:
     new = ctrl.configure()
     if new is not State.INACTIVE:
         raise ControllerError(f"controller '{name}' failed to configure: on_configure did not succeed (it is '{new.label}')")
+    problem = _interface_configuration_problem(ctrl)
+    if problem:  # a learner's configuration method without `return`, or one that raises: refuse it here, clearly
+        ctrl.cleanup()
+        raise ControllerError(f"controller '{name}' cannot be configured: {problem}")
     if ctrl.is_chainable():
         try:
             refs = ctrl.export_reference_interfaces()  # type: ignore[attr-defined]
@@ -103,6 +107,24 @@ def configure(rm: ResourceManager, spec: ControllerSpec) -> None:
             raise
     if ctrl.get_node().get_parameter("is_async", False):
         _log.info("controller '%s' asks for is_async; it runs in the manager's loop here", name)
+
+
+def _interface_configuration_problem(ctrl: Any) -> str:
+    """Why the controller's interface configuration methods are unusable, or ``""``."""
+    from rrbot_workshop.controller_interface.base import InterfaceConfiguration
+
+    for method in ("command_interface_configuration", "state_interface_configuration"):
+        try:
+            cfg = getattr(ctrl, method)()
+        except Exception as exc:  # noqa: BLE001 - learner code: report it, do not let it escape
+            return f"{method}() raised {type(exc).__name__}: {exc}"
+        if not isinstance(cfg, InterfaceConfiguration):
+            hint = " (did it forget to `return` it?)" if cfg is None else ""
+            return (f"{method}() returned {type(cfg).__name__}{hint}; it must return an InterfaceConfiguration, e.g. "
+                    "InterfaceConfiguration(InterfaceConfigurationType.INDIVIDUAL, ['joint1/position'])")
+        if not isinstance(cfg.names, list | tuple) or not all(isinstance(n, str) for n in cfg.names):
+            return f"{method}() returned names {cfg.names!r}; they must be a list of interface names (strings)"
+    return ""
 
 
 def cleanup(rm: ResourceManager, spec: ControllerSpec) -> None:
