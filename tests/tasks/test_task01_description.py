@@ -136,7 +136,7 @@ def _close(actual: Any, expected: Any, tol: float = TOL) -> bool:
 # --------------------------------------------------------------------------------------------- kinematics
 
 
-@graded(points=2, hint="rrbot.urdf.xacro must expand with xacro, with no arguments, into a URDF: check the XML, "
+@graded(given=True, points=2, hint="rrbot.urdf.xacro must expand with xacro, with no arguments, into a URDF: check the XML, "
         "the xacro:include paths (relative to the including file) and that the macros are instantiated.")
 def test_description_processes(model: yourdfpy.URDF) -> None:
     assert model.robot.links, "the URDF has no links"
@@ -157,7 +157,7 @@ def test_links_and_joints(model: yourdfpy.URDF) -> None:
         assert chain[child].type == kind, f"the joint above '{child}' must be {kind}, not {chain[child].type}"
 
 
-@graded(points=1, hint="The pedestal (base_link) is a box 0.3 x 0.3 x 0.3 m standing on the ground: its visual's "
+@graded(given=True, points=1, hint="The pedestal (base_link) is a box 0.3 x 0.3 x 0.3 m standing on the ground: its visual's "
         "origin is half its height (0.15 m) above the base_link frame.")
 def test_pedestal(model: yourdfpy.URDF) -> None:
     box, origin = _visual_geometry(model, "base_link", "box")

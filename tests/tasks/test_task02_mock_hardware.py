@@ -161,7 +161,7 @@ def _positions(system: rw.System) -> list[float]:
 # --------------------------------------------------------------------------------------------- description
 
 
-@graded(points=1, hint="rrbot.urdf.xacro must expand with use_mock_hardware:=true mock_sensor_commands:=false into a "
+@graded(given=True, points=1, hint="rrbot.urdf.xacro must expand with use_mock_hardware:=true mock_sensor_commands:=false into a "
         "URDF with one <ros2_control name='rrbot'> tag driving joint1 and joint2 (task 1's description).")
 def test_description_processes(description_file: Path) -> None:
     hardware = _hardware(description_file, use_mock_hardware=True, mock_sensor_commands=False)
@@ -270,7 +270,7 @@ def test_joint_trajectory_controller_constraints(controllers_yaml: dict[str, Any
         )
 
 
-@graded(points=1, hint="Every controller in the file must configure, and use only parameters it declares in "
+@graded(given=True, points=1, hint="Every controller in the file must configure, and use only parameters it declares in "
         "Jazzy: for example the workshop's state_publish_rate no longer exists in the trajectory controller.")
 def test_parameters_valid_in_jazzy(controllers_file: Path) -> None:
     config = rw.params.load_controllers_yaml(controllers_file)

@@ -61,7 +61,7 @@ def test_grade_json_of_the_real_task01_solution(capsys: pytest.CaptureFixture[st
     data = json.loads(capsys.readouterr().out)
     assert set(data) == {"task", "score", "max_score", "checks"}
     assert data["task"] == 1 and data["score"] == data["max_score"] > 0
-    assert all(set(c) == {"name", "points", "max_points", "passed", "hint"} for c in data["checks"])
+    assert all(set(c) >= {"name", "points", "max_points", "passed", "given", "hint", "reason"} for c in data["checks"])
 
 
 def test_grade_prints_a_rubric_and_exits_0_on_a_low_score(course: Path, capsys: pytest.CaptureFixture[str]) -> None:

@@ -126,8 +126,8 @@ def test_rubric_json_has_exactly_the_documented_keys() -> None:
         "score": 2,
         "max_score": 5,
         "checks": [
-            {"name": "a", "points": 2, "max_points": 2, "passed": True, "hint": ""},
-            {"name": "b", "points": 0.0, "max_points": 3, "passed": False, "hint": "h"},
+            {"name": "a", "points": 2, "max_points": 2, "passed": True, "given": False, "hint": "", "reason": ""},
+            {"name": "b", "points": 0.0, "max_points": 3, "passed": False, "given": False, "hint": "h", "reason": "d"},
         ],
     }
 
@@ -265,3 +265,20 @@ def test_failure_reason_keeps_the_reasons_listed_after_a_colon() -> None:
     text = _first_line(str(SwitchError(["'a' claims joint1/position", "'b' claims joint1/position"])))
     assert "'a' claims joint1/position" in text and "'b' claims joint1/position" in text
     assert _first_line("expected 1\nassert 0 == 1") == "expected 1"
+
+
+def test_one_reason_for_checks_that_fail_for_the_same_reason_and_given_checks_score_nothing() -> None:
+    """A file that does not parse fails every check with one error: it is reported once; given checks (what the
+    handed-out exercise already satisfies) are shown but neither earn nor cost points."""
+    rubric = Rubric(task=3, checks=[
+        CheckResult("parses", 1, False, detail="malformed XML at line 3", given=True),
+        CheckResult("a", 2, False, detail="malformed XML at line 3"),
+        CheckResult("b", 2, False, detail="malformed XML at line 3"),
+        CheckResult("free", 1, True, given=True),
+    ])
+    text = rubric.format()
+    assert text.count("malformed XML at line 3") == 1 and "the same as for parses above" in text
+    data = json.loads(rubric.to_json())
+    assert [c.get("same_as") for c in data["checks"]] == [None, "parses", "parses", None]
+    assert (rubric.score, rubric.max_score) == (0, 4)
+    assert "GIVEN" in text

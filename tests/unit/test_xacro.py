@@ -146,3 +146,18 @@ def test_resolve_package_uri_without_package_name_raises() -> None:
     """``package:///x`` has no package name."""
     with pytest.raises(DescriptionError, match="no package name"):
         resolve_package_uri("package:///meshes/x.stl")
+
+
+def test_malformed_xml_names_the_element_left_open(tmp_path) -> None:  # noqa: ANN001
+    """A forgotten closing tag: the error gives line and column and the element that was left open, not only the
+    place where the parser noticed."""
+    import pytest
+
+    from rrbot_workshop.description import process_xacro
+    from rrbot_workshop.exceptions import DescriptionError
+
+    path = tmp_path / "robot.urdf.xacro"
+    path.write_text('<?xml version="1.0"?>\n<robot name="r">\n  <link name="base">\n    <visual>\n'
+                    '      <geometry><box size="1 1 1"/></geometry>\n  </link>\n</robot>\n')
+    with pytest.raises(DescriptionError, match=r"line 6, column \d+: mismatched tag; <visual> opened at line 4 is not closed"):
+        process_xacro(path)

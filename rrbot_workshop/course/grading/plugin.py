@@ -143,6 +143,7 @@ class RubricCollector:
                 "name": name,
                 "max_points": spec.points,
                 "hint": spec.hint,
+                "given": spec.given,
                 "status": "pending",
                 "detail": "",
             }

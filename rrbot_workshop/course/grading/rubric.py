@@ -21,7 +21,7 @@ _F = TypeVar("_F", bound=Callable[..., Any])
 
 @dataclass(frozen=True)
 class CheckSpec:
-    """Weight and hint of one check.
+    """Weight and hint of one check, and whether the exercise already satisfies it (``given``).
 
     Attributes:
         points: Points the check is worth (> 0).
@@ -30,9 +30,10 @@ class CheckSpec:
 
     points: float
     hint: str
+    given: bool = False
 
 
-def graded(points: float = DEFAULT_POINTS, hint: str = "") -> Callable[[_F], _F]:
+def graded(points: float = DEFAULT_POINTS, hint: str = "", given: bool = False) -> Callable[[_F], _F]:
     """Decorator that makes a grader test a weighted check.
 
     Example:
@@ -42,6 +43,8 @@ def graded(points: float = DEFAULT_POINTS, hint: str = "") -> Callable[[_F], _F]
     Args:
         points: Points the check is worth (> 0).
         hint: Shown with a failed check.
+        given: The handed-out exercise already satisfies it (e.g. "the file processes"): it is still checked and
+            shown, marked GIVEN, but earns no points, so an untouched exercise scores 0.
 
     Raises:
         ValueError: If ``points`` is not positive.
@@ -50,7 +53,7 @@ def graded(points: float = DEFAULT_POINTS, hint: str = "") -> Callable[[_F], _F]
         raise ValueError(f"a check must be worth more than 0 points, got {points!r}")
 
     def mark(func: _F) -> _F:
-        func.__rubric_check__ = CheckSpec(float(points), hint)  # type: ignore[attr-defined]
+        func.__rubric_check__ = CheckSpec(float(points), hint, given)  # type: ignore[attr-defined]
         return func
 
     return mark
@@ -86,6 +89,8 @@ class CheckResult:
     passed: bool
     hint: str = ""
     detail: str = ""
+    given: bool = False
+    same_as: str = ""
 
     @property
     def points(self) -> float:
@@ -93,14 +98,23 @@ class CheckResult:
         return self.max_points if self.passed else 0.0
 
     def to_dict(self) -> dict[str, Any]:
-        """The JSON form: ``{"name", "points", "max_points", "passed", "hint"}``."""
-        return {
+        """The JSON form: ``{"name", "points", "max_points", "passed", "given", "hint", "reason"}``.
+
+        ``reason`` is why a failed check failed (``""`` when it passed); when several checks fail for the same reason
+        (a file that does not parse), it is given once and the others say ``"same_as": "<first check>"``.
+        """
+        out: dict[str, Any] = {
             "name": self.name,
             "points": self.points,
             "max_points": self.max_points,
             "passed": self.passed,
+            "given": self.given,
             "hint": self.hint,
+            "reason": "" if self.passed or self.same_as else self.detail,
         }
+        if self.same_as:
+            out["same_as"] = self.same_as
+        return out
 
 
 @dataclass
@@ -121,13 +135,13 @@ class Rubric:
 
     @property
     def score(self) -> float:
-        """Points earned."""
-        return sum(c.points for c in self.checks)
+        """Points earned (given checks earn none)."""
+        return sum(c.points for c in self.checks if not c.given)
 
     @property
     def max_score(self) -> float:
-        """Points available."""
-        return sum(c.max_points for c in self.checks)
+        """Points available (given checks are not counted)."""
+        return sum(c.max_points for c in self.checks if not c.given)
 
     @property
     def complete(self) -> bool:
@@ -137,6 +151,20 @@ class Rubric:
     def failed(self) -> list[CheckResult]:
         """The checks that did not pass."""
         return [c for c in self.checks if not c.passed]
+
+    def __post_init__(self) -> None:
+        self.mark_shared_reasons()
+
+    def mark_shared_reasons(self) -> None:
+        """Failed checks with the reason of an earlier failed check point to it instead of repeating it."""
+        first: dict[str, str] = {}
+        for c in self.checks:
+            if c.passed or not c.detail:
+                continue
+            if c.detail in first:
+                c.same_as = first[c.detail]
+            else:
+                first[c.detail] = c.name
 
     def to_dict(self) -> dict[str, Any]:
         """``{"task": N, "score": ..., "max_score": ..., "checks": [...]}``."""
@@ -162,13 +190,15 @@ class Rubric:
         lines = [f"Task {self.task}: {title}{track}"]
         width = max((len(_fmt(c.max_points)) for c in self.checks), default=1)
         for c in self.checks:
-            mark = "PASS" if c.passed else "FAIL"
-            pts = f"{_fmt(c.points):>{width}}/{_fmt(c.max_points):<{width}}"
-            lines.append(f"  {mark}  {pts}  {c.name}")
+            mark = ("GIVEN" if c.passed else "FAIL ") if c.given else ("PASS " if c.passed else "FAIL ")
+            pts = f"{_fmt(c.points):>{width}}/{_fmt(c.max_points):<{width}}" if not c.given else " " * (2 * width + 1)
+            lines.append(f"  {mark} {pts}  {c.name}")
             if not c.passed:
                 if c.hint:
                     lines.append(f"        hint: {c.hint}")
-                if details and c.detail:
+                if details and c.same_as:
+                    lines.append(f"        why:  the same as for {c.same_as} above")
+                elif details and c.detail:
                     lines.append(f"        why:  {c.detail}")
         lines.append(f"Total: {_fmt(self.score)}/{_fmt(self.max_score)} points")
         return "\n".join(lines)

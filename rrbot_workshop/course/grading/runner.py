@@ -78,8 +78,10 @@ def _rubric_from(task: int, data: dict[str, Any], stopped: str) -> Rubric:
                 passed=passed,
                 hint="" if passed else str(entry.get("hint", "")),
                 detail="" if passed else detail,
+                given=bool(entry.get("given", False)),
             )
         )
+    rubric.mark_shared_reasons()
     return rubric
 
 
