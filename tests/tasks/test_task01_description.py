@@ -110,13 +110,18 @@ def _joint_world(model: yourdfpy.URDF, name: str) -> tuple[np.ndarray, np.ndarra
     return pose[:3, 3], axis
 
 
-def _visual_geometry(model: yourdfpy.URDF, link: str, kind: str) -> tuple[Any, np.ndarray]:
-    for visual in _link(model, link).visuals:
-        geometry = getattr(visual.geometry, kind, None)
+def _visual_geometry(model: yourdfpy.URDF, link: str, kind: str, element: str = "visual") -> tuple[Any, np.ndarray]:
+    for item in getattr(_link(model, link), f"{element}s"):
+        geometry = getattr(item.geometry, kind, None)
         if geometry is not None:
-            origin = visual.origin if visual.origin is not None else np.eye(4)
+            origin = item.origin if item.origin is not None else np.eye(4)
             return geometry, np.asarray(origin)
-    raise AssertionError(f"link '{link}' has no <visual> with a <{kind}> geometry")
+    raise AssertionError(f"link '{link}' has no <{element}> with a <{kind}> geometry")
+
+
+def _box_extent(box: Any, origin: np.ndarray) -> np.ndarray:
+    """The box's extent along the link frame's x, y and z [m]: where it points, not only its sorted sizes."""
+    return np.abs(origin[:3, :3]) @ np.asarray(box.size, dtype=float)
 
 
 def _component(items: list[ComponentInfo], name: str, what: str) -> ComponentInfo:
@@ -177,10 +182,12 @@ def test_joint1_placement(model: yourdfpy.URDF) -> None:
 @graded(points=1, hint="link1 is a cylinder 0.5 m long with a 0.1 m radius (0.2 m diameter), reaching from joint1 "
         "up to joint2: its visual origin is at z=0.25.")
 def test_link1_shape(model: yourdfpy.URDF) -> None:
-    cylinder, origin = _visual_geometry(model, "link1", "cylinder")
-    assert _close(cylinder.length, 0.5), f"link1 cylinder is {cylinder.length} m long, expected 0.5"
-    assert _close(cylinder.radius, 0.1), f"link1 cylinder radius is {cylinder.radius} m, expected 0.1"
-    assert _close(origin[:3, 3], [0, 0, 0.25]), "link1's cylinder must span from joint1 (z=0) to joint2 (z=0.5)"
+    for element in ("visual", "collision"):
+        cylinder, origin = _visual_geometry(model, "link1", "cylinder", element)
+        assert _close(cylinder.length, 0.5), f"link1 {element} cylinder is {cylinder.length} m long, expected 0.5"
+        assert _close(cylinder.radius, 0.1), f"link1 {element} cylinder radius is {cylinder.radius} m, expected 0.1"
+        assert _close(origin[:3, 3], [0, 0, 0.25]), f"link1's {element} must span from joint1 (z=0) to joint2 (z=0.5)"
+        assert _close(abs(origin[2, 2]), 1.0), f"link1's {element} cylinder must stand along the link's z axis"
 
 
 @graded(points=2, hint="joint2 sits at the top of link1 (0.5 m above joint1, so 0.8 m above the ground) and turns "
@@ -191,10 +198,16 @@ def test_joint2_placement(model: yourdfpy.URDF) -> None:
     assert abs(axis[2]) < TOL, f"joint2's axis is {np.round(axis, 3).tolist()} in the world, not horizontal"
 
 
-@graded(points=1, hint="link2 is a box 0.6 m long with a 0.1 x 0.1 m cross-section.")
+@graded(points=1, hint="link2 is a box 0.6 m long with a 0.1 x 0.1 m cross-section, along its frame's z axis from "
+        "joint2 (z=0) to tool0 (z=0.6): visual and collision alike.")
 def test_link2_shape(model: yourdfpy.URDF) -> None:
-    box, _ = _visual_geometry(model, "link2", "box")
-    assert _close(sorted(box.size), [0.1, 0.1, 0.6]), f"link2 box size is {list(box.size)}, expected 0.1 0.1 0.6"
+    for element in ("visual", "collision"):
+        box, origin = _visual_geometry(model, "link2", "box", element)
+        extent = _box_extent(box, origin)
+        assert _close(extent, [0.1, 0.1, 0.6]), (
+            f"link2's {element} box reaches {np.round(extent, 3).tolist()} m along the link's x, y, z; expected 0.1 0.1 0.6"
+        )
+        assert _close(origin[:3, 3], [0, 0, 0.3]), f"link2's {element} box must span from joint2 (z=0) to its tip (z=0.6)"
 
 
 @graded(points=3, hint="tool0 is at the tip of link2, 0.6 m from joint2. At zero link2 is horizontal (tool0 0.8 m "

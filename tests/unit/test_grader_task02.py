@@ -104,3 +104,30 @@ def test_forward_controller_on_velocity_fails_its_checks(tmp_path: Path) -> None
         "other_controller_loaded_inactive", "start_rrbot_passes_mock_sensor_commands",
         "forward_command_reaches_the_joints",
     }, rubric.format()
+
+
+def test_bringup_ignoring_robot_controller_fails_the_choice_check(tmp_path: Path) -> None:
+    """start_rrbot always activates the forward controller, whatever robot_controller says."""
+    root = _mutated(tmp_path, BRINGUP, (r"cm\.load_controller\(robot_controller\)\n(\s*)cm\.configure_controller\(robot_controller\)"
+                                        r"\n(\s*)cm\.switch_controllers\(activate=\[robot_controller\]",
+                                        "cm.load_controller('forward_position_controller')\\n\\1cm.configure_controller("
+                                        "'forward_position_controller')\\n\\2cm.switch_controllers(activate=['forward_position_controller']"))
+    failed = _failed(grade(2, task_root=root))
+    assert "other_controller_loaded_inactive" in failed and "start_rrbot_activates_controllers" not in failed
+
+
+def test_update_rate_of_10_hz_fails_the_rate_check(tmp_path: Path) -> None:
+    root = _mutated(tmp_path, CONTROLLERS, (r"update_rate: 100", "update_rate: 10"))
+    assert "update_rate" in _failed(grade(2, task_root=root))
+
+
+def test_trajectory_controller_writing_velocity_too_fails_its_interface_check(tmp_path: Path) -> None:
+    """The mock also has velocity command interfaces; the task's trajectory controller commands positions only."""
+    root = _mutated(tmp_path, CONTROLLERS, (r"command_interfaces:  # what it writes\n      - position",
+                                            "command_interfaces:  # what it writes\n      - position\n      - velocity"))
+    assert "joint_trajectory_controller_interfaces" in _failed(grade(2, task_root=root))
+
+
+def test_partial_goals_allowed_fails_the_constraints_check(tmp_path: Path) -> None:
+    root = _mutated(tmp_path, CONTROLLERS, (r"allow_partial_joints_goal: false", "allow_partial_joints_goal: true"))
+    assert "joint_trajectory_controller_constraints" in _failed(grade(2, task_root=root))

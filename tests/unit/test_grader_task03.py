@@ -64,6 +64,55 @@ MUTATIONS = {
         # the solution's claimable_command_interfaces asks owner_of_interface, so it fails along with it
         {"loop_rate", "owner_of_interface", "reference_interfaces_of", "claimable_command_interfaces"},
     ),
+    "every_controller_runs_at_the_managers_rate": (
+        """
+        def controller_update_rates(system):
+            rate = system.controller_manager.get_update_rate()
+            return {c.name: rate for c in system.controller_manager.list_controllers()}
+        """,
+        {"controller_update_rates"},
+    ),
+    "unclaimed_interface_answers_an_empty_name": (
+        """
+        def claimant_of(system, interface):
+            return system.resource_manager.command_interface_holder(interface) or ""
+        """,
+        {"claimant_of"},
+    ),
+    "reference_interfaces_without_the_controller_prefix": (
+        """
+        def reference_interfaces_of(system, controller):
+            names = system.resource_manager.get_controller_reference_interface_names(controller)
+            return sorted(n.split("/", 1)[1] for n in names)
+        """,
+        {"reference_interfaces_of"},
+    ),
+    "available_means_every_interface": (
+        """
+        def available_interfaces(system):
+            listing = system.controller_manager.list_hardware_interfaces()
+            return {"state": [i.name for i in listing.state_interfaces],
+                    "command": [i.name for i in listing.command_interfaces]}
+        """,
+        # the solution's claimable_command_interfaces asks available_interfaces, so it fails along with it
+        {"available_interfaces", "claimable_command_interfaces"},
+    ),
+    "every_component_assumed_active": (
+        """
+        def hardware_states(system):
+            return {c.name: "active" for c in system.controller_manager.list_hardware_components()}
+        """,
+        # the solution's claimable_command_interfaces asks hardware_states, so it fails along with it
+        {"hardware_states", "claimable_command_interfaces"},
+    ),
+    "owner_of_an_exported_interface_is_the_controller": (
+        """
+        def owner_of_interface(system, interface):
+            rm = system.resource_manager
+            return rm.hardware_of_interface(interface) or rm.controller_of_interface(interface)
+        """,
+        {"owner_of_interface"},
+    ),
 }
 
 

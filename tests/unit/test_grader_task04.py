@@ -103,3 +103,60 @@ def test_hard_coded_workshop_answers_fail(tmp_path: Path) -> None:
     )
     rubric = grade(4, task_root=root)
     assert "loaded_controllers" in _failed(rubric), rubric.format()
+
+
+def _appended(tmp_path: Path, code: str) -> Path:
+    """A copy of the solution with a wrong definition appended (the later ``def`` wins)."""
+    import textwrap
+
+    source = tracks.task_dir(4, "solutions")
+    copy = tmp_path / source.name
+    shutil.copytree(source, copy, ignore=shutil.ignore_patterns("__pycache__"))
+    path = copy / "introspection.py"
+    path.write_text(path.read_text() + "\n" + textwrap.dedent(code))
+    return tmp_path
+
+
+def test_only_active_controllers_counted_as_loaded(tmp_path: Path) -> None:
+    root = _appended(tmp_path, """
+        def loaded_controllers(target):
+            return [c.name for c in controller_manager_of(target).list_controllers() if c.state == "active"]
+        """)
+    assert "loaded_controllers" in _failed(grade(4, task_root=root))
+
+
+def test_available_interfaces_including_unavailable_ones(tmp_path: Path) -> None:
+    root = _appended(tmp_path, """
+        def available_interfaces(target):
+            listing = controller_manager_of(target).list_hardware_interfaces()
+            return {"command": sorted(i.name for i in listing.command_interfaces),
+                    "state": sorted(i.name for i in listing.state_interfaces),
+                    "claimed": sorted(i.name for i in listing.command_interfaces if i.is_claimed)}
+        """)
+    assert "available_interfaces" in _failed(grade(4, task_root=root))
+
+
+def test_switch_without_loading_the_new_controller(tmp_path: Path) -> None:
+    """Asking the switch for a controller that is declared but not loaded: the task says to load it first."""
+    root = _appended(tmp_path, """
+        def switch_between(target, deactivate, activate):
+            cm = controller_manager_of(target)
+            cm.switch_controllers(activate=[activate], deactivate=[deactivate], strictness="strict")
+            return controller_states(cm)
+        """)
+    assert "switch_between" in _failed(grade(4, task_root=root))
+
+
+def test_conflict_answer_with_every_loaded_controller(tmp_path: Path) -> None:
+    """Naming every controller instead of the two the rejection is about."""
+    root = _appended(tmp_path, """
+        def activate_all_at_once(target):
+            cm = controller_manager_of(target)
+            inactive = [n for n, s in controller_states(cm).items() if s == "inactive"]
+            try:
+                cm.switch_controllers(activate=inactive, strictness="strict")
+            except SwitchError as error:
+                return {"interfaces": sorted(error.interfaces), "controllers": sorted(loaded_controllers(cm))}
+            return {"interfaces": [], "controllers": []}
+        """)
+    assert "conflict_names" in _failed(grade(4, task_root=root))

@@ -139,3 +139,39 @@ def test_task01_missing_flange_frame_fails_the_frame_checks(tmp_path: Path) -> N
     )
     rubric = grade(1, task_root=root)
     assert _failed(rubric) == {"links_and_joints", "tool0_orientation"}, _report(rubric)
+
+
+@needs_solutions
+def test_task01_link2_box_lying_along_x_fails_the_link2_shape_check(tmp_path: Path) -> None:
+    """The right sizes in the wrong order: the box lies across the link instead of along it."""
+    root = _mutated_task01(
+        tmp_path, "rrbot/rrbot_macro.xacro",
+        r'(<visual>\s*<origin xyz="0 0 \$\{link2_length / 2\}" rpy="0 0 0" />\s*<geometry>\s*)'
+        r'<box size="\$\{link2_width\} \$\{link2_width\} \$\{link2_length\}" />',
+        r'\1<box size="${link2_length} ${link2_width} ${link2_width}" />',
+    )
+    rubric = grade(1, task_root=root)
+    assert _failed(rubric) == {"link2_shape"}, _report(rubric)
+
+
+@needs_solutions
+def test_task01_link2_box_centred_on_joint2_fails_the_link2_shape_check(tmp_path: Path) -> None:
+    """A box of the right size centred on the joint instead of reaching from the joint to the tip."""
+    root = _mutated_task01(
+        tmp_path, "rrbot/rrbot_macro.xacro",
+        r'(<link name="\$\{prefix\}link2">\s*<visual>\s*)<origin xyz="0 0 \$\{link2_length / 2\}" rpy="0 0 0" />',
+        r'\1<origin xyz="0 0 0" rpy="0 0 0" />',
+    )
+    rubric = grade(1, task_root=root)
+    assert _failed(rubric) == {"link2_shape"}, _report(rubric)
+
+
+@needs_solutions
+def test_task01_link1_without_collision_fails_the_link1_shape_check(tmp_path: Path) -> None:
+    """A link you can see but not touch: the collision element was left out."""
+    root = _mutated_task01(
+        tmp_path, "rrbot/rrbot_macro.xacro",
+        r'(<link name="\$\{prefix\}link1">.*?</visual>)\s*<collision>.*?</collision>', r"\1",
+    )
+    rubric = grade(1, task_root=root)
+    assert _failed(rubric) == {"link1_shape"}, _report(rubric)
