@@ -66,6 +66,7 @@ def _cmd_grade(args: argparse.Namespace) -> int:
 
 
 def _cmd_progress(args: argparse.Namespace) -> int:
+    from rrbot_workshop.course.grading import attempts
     from rrbot_workshop.course.grading.runner import grade, graded_tasks
 
     track = args.track or tracks.current_track()
@@ -76,13 +77,17 @@ def _cmd_progress(args: argparse.Namespace) -> int:
     for task in graded_tasks():
         label = names.get(task, f"task{task:02d}")
         try:
-            rubric = grade(task, track=track, task_root=args.root, check_timeout=args.timeout)
+            rubric = grade(task, track=track, task_root=args.root, check_timeout=args.timeout, record=False)
         except (CourseError, GradingError) as exc:
             first = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
             results.append({"task": task, "score": 0.0, "max_score": 0.0, "checks": [], "error": first})
             lines.append(f"  {label:<32} not graded: {first}")
             continue
-        results.append(rubric.to_dict())
+        entry = rubric.to_dict()
+        if track == "exercises":
+            # the learner's own checks: how many, and how long from the first to a full score (for the instructor)
+            entry["attempts"] = attempts.summary(task, args.root)
+        results.append(entry)
         score += rubric.score
         max_score += rubric.max_score
         passed = len(rubric.checks) - len(rubric.failed())

@@ -210,9 +210,16 @@ def test_link2_shape(model: yourdfpy.URDF) -> None:
         assert _close(origin[:3, 3], [0, 0, 0.3]), f"link2's {element} box must span from joint2 (z=0) to its tip (z=0.6)"
 
 
-@graded(points=3, hint="tool0 is at the tip of link2, 0.6 m from joint2. At zero link2 is horizontal (tool0 0.8 m "
-        "high, 0.6 m from the vertical axis); at joint2=+90 deg it points straight up (tool0 at 0 0 1.4); joint1 "
-        "swings it around the vertical axis. Use joint2 origin rpy='0 -pi/2 0' with axis '0 1 0'.")
+@graded(points=3, hint=(
+    "tool0 is at the tip of link2, 0.6 m from joint2. At zero link2 is horizontal (tool0 0.8 m high, 0.6 m from the "
+    "vertical axis); at joint2=+90 deg it points straight up (tool0 at 0 0 1.4); joint1 swings it around the vertical "
+    "axis.",
+    "A joint's <origin rpy> turns the child frame before the joint moves it; link2's box runs along its own z axis, so "
+    "joint2's origin must turn z from vertical to horizontal (a pitch) and joint2 must turn about the axis that lifts "
+    "it (y after that turn).",
+    "joint2: <origin xyz='0 0 ${link1_length}' rpy='0 ${-pi / 2} 0'/> <axis xyz='0 1 0'/>; the link2-tool0 joint: <origin "
+    "xyz='0 0 0.6'/>.",
+))
 def test_tool0_at_tip(model: yourdfpy.URDF) -> None:
     home = _frame(model, "tool0")[:3, 3]
     assert _close(home[2], 0.8), f"at zero tool0 is {home[2]:.3f} m high, expected 0.8 (link2 horizontal)"
@@ -227,9 +234,15 @@ def test_tool0_at_tip(model: yourdfpy.URDF) -> None:
     )
 
 
-@graded(points=2, hint="tool0 is turned as in the original workshop: link2-tool0 origin rpy='0 ${-pi} ${-pi / 2}'. "
-        "Its z axis then points back along link2 towards joint2 and its x axis along joint2's axis; the force-torque "
-        "sensor reports along these axes.")
+@graded(points=2, hint=(
+    "tool0 is turned as in the original workshop: its z axis points back along link2 towards joint2 and its x axis "
+    "along joint2's axis; the force-torque sensor reports along these axes.",
+    "Only the link2-tool0 joint's <origin rpy> turns tool0 (roll, pitch, yaw about x, y, z, in radians). Starting "
+    "from link2's frame (z out along the link), z must flip to point back (a half turn) and x must end on joint2's "
+    "axis (a quarter turn about the new z).",
+    "link2-tool0: <origin xyz='0 0 0.6' rpy='0 ${-pi} ${-pi / 2}'/>; flange and base hang on tool0 and base_link with "
+    "a zero origin.",
+))
 def test_tool0_orientation(model: yourdfpy.URDF) -> None:
     tool0 = _frame(model, "tool0")
     joint2, _ = _joint_world(model, "joint2")
@@ -267,14 +280,21 @@ def _check_limits(model: yourdfpy.URDF, name: str, lower_deg: float, upper_deg: 
     )
 
 
-@graded(points=2, hint="joint1: <limit lower='${radians(-380)}' upper='${radians(380)}' "
-        "velocity='${radians(180)}' effort='...'/> (URDF limits are in rad and rad/s).")
+@graded(points=2, hint=(
+    "joint1 turns from -380 to +380 degrees at up to 180 deg/s (the workshop's RRBot).",
+    "A revolute joint's range goes in its <limit lower upper velocity effort> tag, in rad and rad/s; xacro can "
+    "convert with ${radians(...)}.",
+    "joint1: <limit lower='${radians(-380)}' upper='${radians(380)}' velocity='${radians(180)}' effort='...'/>.",
+))
 def test_joint1_limits(model: yourdfpy.URDF) -> None:
     _check_limits(model, "joint1", -380, 380)
 
 
-@graded(points=2, hint="joint2: <limit lower='${radians(-60)}' upper='${radians(240)}' "
-        "velocity='${radians(180)}' effort='...'/>.")
+@graded(points=2, hint=(
+    "joint2 turns from -60 to +240 degrees at up to 180 deg/s.",
+    "As for joint1: a <limit> tag in rad and rad/s; ${radians(...)} converts degrees.",
+    "joint2: <limit lower='${radians(-60)}' upper='${radians(240)}' velocity='${radians(180)}' effort='...'/>.",
+))
 def test_joint2_limits(model: yourdfpy.URDF) -> None:
     _check_limits(model, "joint2", -60, 240)
 

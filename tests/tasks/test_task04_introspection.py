@@ -184,8 +184,13 @@ def _snapshot(system: rw.System) -> tuple[Any, Any, Any]:
 # --------------------------------------------------------------------------------------------- 4.1, 4.2
 
 
-@graded(points=2, hint="Task 4.1: return [c.name for c in cm.list_controllers()], every loaded controller whatever "
-        "its state (unconfigured ones too). Compute it from the system: the grader renames the controllers.")
+@graded(points=2, hint=(
+    "Task 4.1: every loaded controller whatever its state (unconfigured ones too), computed from the system: the "
+    "grader renames the controllers.",
+    "cm.list_controllers() answers as `ros2 control list_controllers` does: one entry per loaded controller, with "
+    ".name, .state, .claimed_interfaces.",
+    "return [c.name for c in cm.list_controllers()]",
+))
 def test_loaded_controllers(answers: ModuleType) -> None:
     expected = {
         "workshop": [FORWARD, JSB, JTC],

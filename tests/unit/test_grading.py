@@ -282,3 +282,82 @@ def test_one_reason_for_checks_that_fail_for_the_same_reason_and_given_checks_sc
     assert [c.get("same_as") for c in data["checks"]] == [None, "parses", "parses", None]
     assert (rubric.score, rubric.max_score) == (0, 4)
     assert "GIVEN" in text
+
+
+# ------------------------------------------------------------------------------- graduated hints, attempt log
+
+_GRADUATED = '''
+from rrbot_workshop.course import tracks
+from rrbot_workshop.course.grading import graded
+
+
+@graded(points=2, hint=("the concept", "the API", "the code"))
+def test_answer():
+    assert (tracks.task_dir(5) / "answer.txt").read_text().strip() == "42", "not 42 yet"
+
+
+@graded(points=1, hint="one level only")
+def test_other():
+    assert False, "never"
+'''
+
+
+def test_graduated_hints_go_one_level_deeper_per_failed_attempt_and_the_log_records_them(course: Path) -> None:
+    from rrbot_workshop.course.grading import attempts
+
+    (course / "tests" / "tasks" / "test_task05_fake.py").write_text(_GRADUATED)
+    seen = []
+    for _ in range(4):
+        answer = {c.name: c for c in check(5, check_timeout=2.0).checks}["answer"]
+        seen.append(answer.hint)
+    assert seen[0].startswith("the concept (hint 1 of 3; another failed attempt")
+    assert seen[1].startswith("the API (hint 2 of 3")
+    assert seen[2] == seen[3] == "the code (hint 3 of 3)"
+    log = attempts.load(5)["attempts"]
+    assert len(log) == 4 and all(a["failed"] == ["answer", "other"] and a["score"] == 0 for a in log)
+    assert (course / "exercises" / ".progress" / "task05.json").is_file()
+    (course / "exercises" / "task05_fake" / "answer.txt").write_text("42\n")
+    check(5, check_timeout=2.0)
+    summary = attempts.summary(5)
+    assert summary["attempts"] == 5 and summary["passed"] is False  # 'other' still fails: not a full score
+    assert attempts.failures(5, "answer") == 4
+
+
+def test_progress_does_not_count_as_an_attempt_and_reports_the_log(course: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    from rrbot_workshop.course.cli import main
+    from rrbot_workshop.course.grading import attempts
+
+    (course / "tests" / "tasks" / "test_task05_fake.py").write_text(_GRADUATED.replace("assert False", "assert True"))
+    attempts.record(5, 0.0, 3.0, ["answer"], now=1000.0)
+    (course / "exercises" / "task05_fake" / "answer.txt").write_text("42\n")
+    attempts.record(5, 3.0, 3.0, [], now=1095.0)
+    assert main(["progress", "--json", "--timeout", "2"]) == 0
+    report = json.loads(capsys.readouterr().out)
+    task = next(t for t in report["tasks"] if t["task"] == 5)
+    assert task["attempts"] == {"attempts": 2, "passed": True, "time_to_pass_s": 95.0}
+    assert len(attempts.load(5)["attempts"]) == 2
+
+
+def test_no_attempt_log_for_the_solutions_track_a_copy_or_when_switched_off(
+    course: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    from rrbot_workshop.course.grading import attempts
+
+    (course / "tests" / "tasks" / "test_task05_fake.py").write_text(_GRADUATED)
+    grade(5, track="solutions", check_timeout=2.0)
+    grade(5, task_root=course / "exercises", check_timeout=2.0)
+    monkeypatch.setenv(attempts.ENV, "0")
+    hint = {c.name: c for c in check(5, check_timeout=2.0).checks}["answer"].hint
+    assert hint.startswith("the concept (hint 1 of 3")
+    assert not (course / "exercises" / ".progress").exists()
+
+
+def test_an_unreadable_attempt_log_is_an_empty_one(course: Path) -> None:
+    from rrbot_workshop.course.grading import attempts
+
+    path = attempts.log_path(5)
+    path.parent.mkdir(parents=True)
+    path.write_text("{not json")
+    assert attempts.load(5) == {"attempts": []} and attempts.summary(5)["attempts"] == 0
+    attempts.record(5, 1.0, 2.0, ["x"])
+    assert attempts.failures(5, "x") == 1

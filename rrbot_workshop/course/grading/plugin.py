@@ -143,6 +143,7 @@ class RubricCollector:
                 "name": name,
                 "max_points": spec.points,
                 "hint": spec.hint,
+                "hints": list(spec.hints),
                 "given": spec.given,
                 "status": "pending",
                 "detail": "",

@@ -7,7 +7,7 @@ A check is one test function of a grader file (``tests/tasks/test_taskNN_<name>.
 from __future__ import annotations
 
 import json
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Any, TypeVar
 
@@ -31,9 +31,12 @@ class CheckSpec:
     points: float
     hint: str
     given: bool = False
+    hints: tuple[str, ...] = ()
 
 
-def graded(points: float = DEFAULT_POINTS, hint: str = "", given: bool = False) -> Callable[[_F], _F]:
+def graded(
+    points: float = DEFAULT_POINTS, hint: str | Sequence[str] = "", given: bool = False
+) -> Callable[[_F], _F]:
     """Decorator that makes a grader test a weighted check.
 
     Example:
@@ -42,7 +45,8 @@ def graded(points: float = DEFAULT_POINTS, hint: str = "", given: bool = False) 
 
     Args:
         points: Points the check is worth (> 0).
-        hint: Shown with a failed check.
+        hint: Shown with a failed check: one text, or graduated levels (the concept, then the API to use, then the
+            code), shown one at a time, a level deeper each time the learner's check fails again.
         given: The handed-out exercise already satisfies it (e.g. "the file processes"): it is still checked and
             shown, marked GIVEN, but earns no points, so an untouched exercise scores 0.
 
@@ -53,7 +57,8 @@ def graded(points: float = DEFAULT_POINTS, hint: str = "", given: bool = False) 
         raise ValueError(f"a check must be worth more than 0 points, got {points!r}")
 
     def mark(func: _F) -> _F:
-        func.__rubric_check__ = CheckSpec(float(points), hint, given)  # type: ignore[attr-defined]
+        levels = (hint,) if isinstance(hint, str) else tuple(hint)
+        func.__rubric_check__ = CheckSpec(float(points), levels[0] if levels else "", given, levels)  # type: ignore[attr-defined]
         return func
 
     return mark

@@ -17,6 +17,7 @@ from pathlib import Path
 from typing import Any
 
 from rrbot_workshop.course import tracks
+from rrbot_workshop.course.grading import attempts
 from rrbot_workshop.course.grading.rubric import CheckResult, Rubric
 from rrbot_workshop.exceptions import CourseError, GradingError
 
@@ -93,6 +94,7 @@ def grade(
     check_timeout: float = DEFAULT_CHECK_TIMEOUT,
     total_timeout: float = DEFAULT_TOTAL_TIMEOUT,
     verbose: bool = False,
+    record: bool = True,
 ) -> Rubric:
     """Run a task's grader in a subprocess and return its rubric.
 
@@ -103,6 +105,9 @@ def grade(
         check_timeout: Time limit per check phase in [s]; a check that runs longer fails.
         total_timeout: Time limit of the whole grader process in [s]; unfinished checks fail.
         verbose: Log pytest's own output at INFO level.
+        record: A learner's own check (the exercises track, no ``task_root``): log the attempt in
+            ``exercises/.progress/`` and deepen the hints of checks that failed before. ``progress`` grades with
+            ``record=False``.
 
     Returns:
         The rubric; the grading ran even if the score is 0.
@@ -167,6 +172,17 @@ def grade(
     rubric = _rubric_from(task, data, stopped)
     rubric.title = tracks.task_names().get(task, path.stem[len("test_"):])
     rubric.track = chosen if task_root is None else str(task_root)
+    learner = record and attempts.recording_enabled(chosen, task_root)
+    for entry, result in zip(data.get("checks", []), rubric.checks, strict=False):
+        levels = [str(h) for h in entry.get("hints") or [entry.get("hint", "")] if h]
+        if result.passed or len(levels) < 2:
+            continue
+        # graduated: the concept first, then the API, the code last; one level deeper per failed attempt
+        level = min(attempts.failures(task, result.name), len(levels) - 1) if learner else 0
+        more = "; another failed attempt shows the next hint" if level < len(levels) - 1 else ""
+        result.hint = f"{levels[level]} (hint {level + 1} of {len(levels)}{more})"
+    if learner:
+        attempts.record(task, rubric.score, rubric.max_score, [c.name for c in rubric.failed()])
     return rubric
 
 

@@ -1,0 +1,79 @@
+"""The learner's attempt log: how often each task was checked, which checks failed, when it first passed.
+
+One small JSON file per task next to the learner's files, ``exercises/.progress/taskNN.json`` (git-ignored), written
+each time a learner grades their own exercises (``check(N)`` or ``rrbot-workshop grade N`` on the exercises track).
+It drives the graduated hints (a check's hint goes one level deeper each time it fails again) and gives the
+instructor, through ``rrbot-workshop progress --json``, the number of attempts and the time it took to pass.
+Grading a copy (``--root``), the solutions track or the course's own tests records nothing.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import time
+from pathlib import Path
+from typing import Any
+
+from rrbot_workshop.course import tracks
+
+__all__ = ["log_path", "load", "record", "failures", "summary", "recording_enabled"]
+
+#: Set to "0" to grade without writing the log (the course's tests do).
+ENV = "RRBOT_WORKSHOP_RECORD_ATTEMPTS"
+
+
+def recording_enabled(track: str, task_root: object) -> bool:
+    """Record only the learner grading their own exercises in the course folder."""
+    return (track == "exercises" and task_root is None and not os.environ.get(tracks.TASK_ROOT_ENV)
+            and not os.environ.get(tracks.EXERCISES_ENV) and os.environ.get(ENV, "1") != "0")
+
+
+def log_path(task: int, exercises: str | os.PathLike[str] | None = None) -> Path:
+    """``.progress/taskNN.json`` in ``exercises`` (default: the course folder's ``exercises/``)."""
+    folder = Path(exercises) if exercises is not None else tracks.course_root() / "exercises"
+    return folder / ".progress" / f"task{task:02d}.json"
+
+
+def load(task: int, exercises: str | os.PathLike[str] | None = None) -> dict[str, Any]:
+    """The task's log (``{"attempts": [...]}``), empty if there is none or it cannot be read."""
+    try:
+        data = json.loads(log_path(task, exercises).read_text())
+    except (OSError, ValueError):
+        return {"attempts": []}
+    return data if isinstance(data, dict) and isinstance(data.get("attempts"), list) else {"attempts": []}
+
+
+def record(task: int, score: float, max_score: float, failed: list[str], now: float | None = None) -> None:
+    """Append one attempt; never raises (a read-only course folder only loses the log)."""
+    data = load(task)
+    data["attempts"].append({"time": time.time() if now is None else now, "score": score, "max_score": max_score,
+                             "failed": sorted(failed)})
+    path = log_path(task)
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text(json.dumps(data, indent=1) + "\n")
+    except OSError:
+        pass
+
+
+def failures(task: int, check: str) -> int:
+    """How many recorded attempts failed ``check``."""
+    return sum(check in a.get("failed", []) for a in load(task)["attempts"])
+
+
+def summary(task: int, exercises: str | os.PathLike[str] | None = None) -> dict[str, Any]:
+    """``{"attempts": n, "passed": bool, "time_to_pass_s": seconds from the first attempt to the first full score}``.
+
+    Args:
+        task: Task number.
+        exercises: The learner's exercises folder (``--root`` of ``progress``); default the course's.
+    """
+    attempts = load(task, exercises)["attempts"]
+    out: dict[str, Any] = {"attempts": len(attempts), "passed": False, "time_to_pass_s": None}
+    for a in attempts:
+        if a.get("max_score") and a.get("score") == a.get("max_score"):
+            out["passed"] = True
+            out["time_to_pass_s"] = round(float(a["time"]) - float(attempts[0]["time"]), 1)
+            break
+    return out
