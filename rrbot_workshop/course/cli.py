@@ -1,7 +1,8 @@
-"""``rrbot-workshop``: grade tasks, show progress, reset an exercise, hand out a student copy.
+"""``rrbot-workshop``: grade tasks, show progress, reset an exercise, hand out a student copy, lint controllers YAML
+and descriptions, export the learner's work as ROS 2 packages.
 
 Exit status: 0 when the command ran (a low score is still a successful grading), 1 when a grader could not
-run, 2 for a usage error (unknown task, unknown track, bad folder). Output carries no wall-clock times, so
+run or ``lint`` found an error, 2 for a usage error (unknown task, unknown track, bad folder). Output carries no wall-clock times, so
 notebook cells that call it give the same output every run.
 """
 
@@ -12,6 +13,7 @@ import json
 import os
 import sys
 from collections.abc import Sequence
+from pathlib import Path
 from typing import Any
 
 from rrbot_workshop.course import tracks
@@ -21,6 +23,8 @@ __all__ = ["main", "build_parser"]
 
 USAGE_ERROR = 2
 GRADER_ERROR = 1
+#: Exit status of ``lint`` when it found at least one error (warnings alone exit 0).
+LINT_ERRORS = 1
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -52,8 +56,21 @@ def build_parser() -> argparse.ArgumentParser:
     reset = sub.add_parser("reset", help="restore an exercise (your files are backed up first)")
     reset.add_argument("task", type=int, help="task number")
 
-    export = sub.add_parser("export", help="write a copy of the course for learners")
-    export.add_argument("--student", metavar="DIR", required=True, help="new folder for the copy (no solutions/)")
+    export = sub.add_parser("export", help="write a copy of the course for learners, or your work as ROS 2 packages")
+    target = export.add_mutually_exclusive_group(required=True)
+    target.add_argument("--student", metavar="DIR", help="new folder for a copy of the course (no solutions/)")
+    target.add_argument("--ros2", metavar="DIR",
+                        help="new folder for your description and bringup as ROS 2 packages (controlko_description, "
+                             "controlko_bringup), from the current track")
+    export.add_argument("--force", action="store_true", help="with --ros2: write into a folder that is not empty")
+
+    lint = sub.add_parser("lint", help="check controllers YAML files and descriptions against what Jazzy accepts")
+    lint.add_argument("files", nargs="+", metavar="FILE",
+                      help="controllers YAML (.yaml/.yml) or description (.urdf/.xacro) files")
+    lint.add_argument("--description", metavar="URDF",
+                      help="a URDF or xacro file: also check that every interface a controller uses exists in it")
+    lint.add_argument("--xacro-arg", action="append", default=[], metavar="NAME:=VALUE",
+                      help="an argument for the xacro file(s), as xacro takes it (repeatable)")
     return parser
 
 
@@ -128,6 +145,15 @@ def _cmd_reset(args: argparse.Namespace) -> int:
 def _cmd_export(args: argparse.Namespace) -> int:
     from rrbot_workshop.course.grading.course import export_student_copy, uncommitted_changes
 
+    if args.ros2:
+        from rrbot_workshop.course.ros2_export import export_ros2
+
+        result = export_ros2(args.ros2, force=args.force)
+        print(f"Wrote ROS 2 packages to {result.root}: {len(result.copied)} file(s) of yours copied as they are, "
+              f"{len(result.generated)} generated (package.xml, CMakeLists.txt, launch file, README.md).")
+        print(f"Read {result.root / 'README.md'} for what to build with colcon and what remains to write in C++.")
+        return 0
+
     left_out = uncommitted_changes(tracks.course_root())
     target = export_student_copy(args.student)
     print(f"Wrote a student copy of the course as committed (without solutions/) to {target}")
@@ -137,12 +163,37 @@ def _cmd_export(args: argparse.Namespace) -> int:
     return 0
 
 
+def _xacro_args(pairs: Sequence[str]) -> dict[str, str]:
+    out: dict[str, str] = {}
+    for pair in pairs:
+        name, sep, value = pair.partition(":=")
+        if not sep or not name:
+            raise CourseError("--xacro-arg", pair, "must be NAME:=VALUE, as xacro takes it", ["use_mock_hardware:=true"])
+        out[name] = value
+    return out
+
+
+def _cmd_lint(args: argparse.Namespace) -> int:
+    from rrbot_workshop.course.lint import format_findings, lint_controllers, lint_description
+
+    xacro_args = _xacro_args(args.xacro_arg)
+    findings = []
+    for name in args.files:
+        if Path(name).suffix.lower() in (".yaml", ".yml"):
+            findings += lint_controllers(name, args.description, xacro_args)
+        else:
+            findings += lint_description(name, xacro_args)
+    print(format_findings(findings))
+    return LINT_ERRORS if any(f.level == "error" for f in findings) else 0
+
+
 _COMMANDS = {
     "grade": _cmd_grade,
     "progress": _cmd_progress,
     "tasks": _cmd_tasks,
     "reset": _cmd_reset,
     "export": _cmd_export,
+    "lint": _cmd_lint,
 }
 
 

@@ -231,3 +231,60 @@ def test_student_copy_of_the_real_course_still_grades(tmp_path: Path) -> None:
     missing = subprocess.run([sys.executable, "-m", "rrbot_workshop.course.cli", "grade", "1", "--track", "solutions"],
                              cwd=target, env=env, capture_output=True, text=True, check=False)
     assert missing.returncode == 2 and "no 'solutions/' folder" in missing.stderr
+
+
+# ------------------------------------------------------------------------------------------- lint, export --ros2
+
+_BROKEN_YAML = """controller_manager:
+  ros__parameters:
+    update_rate: 100
+    fwd:
+      type: forward_command_controller/ForwardCommandControler
+"""
+
+
+def test_lint_passes_the_course_yaml_with_its_description(capsys: pytest.CaptureFixture[str]) -> None:
+    config = REPO / "descriptions" / "rrbot" / "config" / "rrbot_controllers.yaml"
+    urdf = REPO / "descriptions" / "rrbot" / "urdf" / "rrbot.urdf.xacro"
+    assert main(["lint", str(config), "--description", str(urdf)]) == 0
+    assert capsys.readouterr().out.strip().endswith("no problems found")
+
+
+def test_lint_exits_1_and_names_line_and_closest_type(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    bad = tmp_path / "bad.yaml"
+    bad.write_text(_BROKEN_YAML)
+    assert main(["lint", str(bad)]) == 1
+    out = capsys.readouterr().out
+    assert f"{bad}:5: error: controller_manager.fwd.type" in out
+    assert "did you mean 'forward_command_controller/ForwardCommandController'" in out and "1 error(s)" in out
+
+
+def test_lint_checks_a_description_with_xacro_args(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    urdf = REPO / "descriptions" / "rrbot" / "urdf" / "rrbot.urdf.xacro"
+    assert main(["lint", str(urdf), "--xacro-arg", "prefix:=left_"]) == 0
+    broken = tmp_path / "broken.urdf"
+    broken.write_text('<robot name="r"><ros2_control name="s" type="system"><joint name="j"/></ros2_control></robot>')
+    assert main(["lint", str(broken)]) == 1
+    assert "broken.urdf" in capsys.readouterr().out
+    assert main(["lint", str(urdf), "--xacro-arg", "prefix=left_"]) == 2
+    assert "NAME:=VALUE" in capsys.readouterr().err
+
+
+@pytest.mark.skipif(not (REPO / "solutions").is_dir(), reason="this copy of the course has no solutions/")
+def test_export_ros2_writes_the_packages_and_refuses_a_full_folder(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    tracks.set_track("solutions")
+    target = tmp_path / "ws"
+    assert main(["--course", str(REPO), "export", "--ros2", str(target)]) == 0
+    assert f"Wrote ROS 2 packages to {target}" in capsys.readouterr().out
+    assert (target / "controlko_bringup" / "launch" / "rrbot.launch.py").is_file()
+    assert (target / "controlko_description" / "package.xml").is_file()
+    assert main(["--course", str(REPO), "export", "--ros2", str(target)]) == 2
+    assert "is not empty" in capsys.readouterr().err
+    assert main(["--course", str(REPO), "export", "--ros2", str(target), "--force"]) == 0
+
+
+def test_export_needs_exactly_one_target(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["export"]) == 2
+    assert main(["export", "--student", "a", "--ros2", "b"]) == 2
