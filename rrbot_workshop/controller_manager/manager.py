@@ -32,6 +32,8 @@ from rrbot_workshop.controller_manager import lifecycle as controller_lifecycle
 from rrbot_workshop.controller_manager import loop as controller_loop
 from rrbot_workshop.controller_manager.chains import chain_group, update_order
 from rrbot_workshop.controller_manager.claims import deactivate_controller, required_interfaces
+from rrbot_workshop.controller_manager.explain import SwitchExplanation
+from rrbot_workshop.controller_manager.explain import explain_switch as _explain
 from rrbot_workshop.controller_manager.services import register_services
 from rrbot_workshop.controller_manager.spec import (
     ControllerSpec,
@@ -227,6 +229,14 @@ class ControllerManager:
         if isinstance(activate, str) or isinstance(deactivate, str):
             raise ControllerError("activate and deactivate take lists of controller names, not a single string")
         return _switch(self, activate, deactivate, strictness)
+
+    def explain_switch(
+        self, activate: Iterable[str] = (), deactivate: Iterable[str] = (), strictness: str | int | None = None
+    ) -> SwitchExplanation:
+        """Say, without changing anything, whether this switch would go through under strict and best effort, and
+        every reason it would not, with the facts behind them (see :mod:`~rrbot_workshop.controller_manager.explain`).
+        """
+        return _explain(self, activate, deactivate, strictness)
 
     # ================================================================= the loop
     def add_cycle_hook(self, fn: CycleHook) -> Callable[[], None]:

@@ -40,7 +40,7 @@ from rrbot_workshop.middleware.lifecycle import State
 if TYPE_CHECKING:
     from rrbot_workshop.controller_manager.manager import ControllerManager
 
-__all__ = ["STRICTNESS", "normalize_strictness", "switch_controllers"]
+__all__ = ["STRICTNESS", "SwitchRequest", "normalize_strictness", "switch_controllers"]
 
 _log = logging.getLogger(__name__)
 
@@ -95,8 +95,14 @@ class SwitchRequest:
         return self.cm.controllers[name].state
 
     # ----------------------------------------------------------------- planning
-    def plan(self) -> bool:
-        """Steps 1-8. Returns False if there is nothing to do. Raises SwitchError on rejection."""
+    def plan(self, ask_hardware: bool = True) -> bool:
+        """Steps 1-8. Returns False if there is nothing to do. Raises SwitchError on rejection.
+
+        Args:
+            ask_hardware: Ask the components in step 8 (their ``prepare_command_mode_switch``); a dry run checks the
+                resource manager's rules only, since a driver may keep what it prepared for the ``perform`` that
+                follows.
+        """
         loaded = self.cm.controllers
         if not self.activate and not self.deactivate:
             _log.info("switch_controllers: empty activate and deactivate lists, nothing to do")
@@ -161,6 +167,11 @@ class SwitchRequest:
 
         self.check_interfaces()  # step 7
         start, stop = self.hardware_lists()
+        if not ask_hardware:  # the resource manager's rules only, the components are not asked
+            refused = self.rm.check_command_mode_switch(start, stop)
+            if refused:
+                raise SwitchError([f"the hardware rejected the command mode switch: {refused}"])
+            return True
         if not self.rm.prepare_command_mode_switch(start, stop):  # step 8
             raise SwitchError([f"the hardware rejected the command mode switch: {self.rm.last_switch_error}"])
         return True

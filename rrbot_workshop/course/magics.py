@@ -70,6 +70,10 @@ def _control_parser() -> _Parser:
     hw.add_argument("name")
     hw.add_argument("state", choices=["unconfigured", "inactive", "active", "finalized"])
     sub.add_parser("view_controller_chains", add_help=False)
+    why = sub.add_parser("why", add_help=False)
+    why.add_argument("name", nargs="?", default=None)
+    why.add_argument("--activate", nargs="*", default=None)
+    why.add_argument("--deactivate", nargs="*", default=None)
     return p
 
 
@@ -77,8 +81,27 @@ _VERBS = (
     "list_controllers [-v], list_hardware_components [-v], list_hardware_interfaces [-v], list_controller_types, "
     "load_controller <name> [--set-state inactive|active], set_controller_state <name> <state>, "
     "switch_controllers [--activate ...] [--deactivate ...] [--strict], unload_controller <name>, "
-    "set_hardware_component_state <name> <state>, view_controller_chains"
+    "set_hardware_component_state <name> <state>, view_controller_chains, "
+    "why <name> [--activate|--deactivate] (or why --activate ... --deactivate ...)"
 )
+
+
+def _why_lists(cm: Any, args: Any) -> tuple[list[str], list[str]]:
+    """``why NAME`` activates NAME unless it is active (then deactivates it); the flags say which, or list more."""
+    activate, deactivate = list(args.activate or []), list(args.deactivate or [])
+    if args.name is not None:
+        if args.deactivate is not None and args.activate is None:
+            deactivate.insert(0, args.name)
+        elif args.activate is not None and args.deactivate is None:
+            activate.insert(0, args.name)
+        elif args.activate is None and args.deactivate is None:
+            spec = cm.controllers.get(args.name)
+            (deactivate if spec is not None and spec.state.label == "active" else activate).append(args.name)
+        else:
+            raise _UsageError("why NAME takes --activate or --deactivate, not both (or list names after each flag)")
+    if not activate and not deactivate:
+        raise _UsageError("%control why needs a controller: why <name> [--activate|--deactivate]")
+    return activate, deactivate
 
 
 def _system(name: str | None) -> System:
@@ -194,6 +217,9 @@ def control(line: str) -> None:
                 print(f"Error: hardware component {args.name} did not reach {args.state}; it is {state}")
         elif verb == "view_controller_chains":
             print(cm.view_controller_chains(), end="")
+        elif verb == "why":
+            activate, deactivate = _why_lists(cm, args)
+            print(cm.explain_switch(activate=activate, deactivate=deactivate))
     except (_UsageError, RRBotWorkshopError, KeyError, ValueError) as exc:
         text = exc.args[0] if isinstance(exc, KeyError) and exc.args else str(exc)
         print(f"Error: {text}".rstrip())

@@ -222,6 +222,14 @@ class ResourceManager(ResourceInterfaces):
         )
         return not self.last_switch_error
 
+    def check_command_mode_switch(self, start_interfaces: Sequence[str], stop_interfaces: Sequence[str]) -> str:
+        """The resource manager's own rules of :meth:`prepare_command_mode_switch`, without asking the components and
+        without logging or keeping the reason: why the switch would be refused, or ``""`` (for a dry run)."""
+        return resource_mode_switch.prepare(
+            self._cycle_order, self._storage, start_interfaces, stop_interfaces,
+            self.allow_controller_activation_with_inactive_hardware, ask_components=False,
+        )
+
     def perform_command_mode_switch(self, start_interfaces: Sequence[str], stop_interfaces: Sequence[str]) -> bool:
         """Tell each component concerned to switch mode (after a successful prepare)."""
         self.last_switch_error = resource_mode_switch.perform(

@@ -30,6 +30,7 @@ def prepare(
     start_interfaces: Sequence[str],
     stop_interfaces: Sequence[str],
     allow_inactive: bool,
+    ask_components: bool = True,
 ) -> str:
     """Ask each component concerned whether the new set of claimed command interfaces is possible.
 
@@ -40,19 +41,22 @@ def prepare(
         stop_interfaces: Command interfaces about to be released.
         allow_inactive: Whether an INACTIVE component may have interfaces started
             (``allow_controller_activation_with_inactive_hardware``).
+        ask_components: Call each component's ``prepare_command_mode_switch``; False checks only the resource
+            manager's own rules (a dry run: a driver may keep what it prepared for the ``perform`` that follows).
 
     Returns:
         ``""`` if every component agrees, else the first reason (logged): a key does not exist or
         is unavailable, a component would start interfaces while INACTIVE (unless allowed), a
         component is neither INACTIVE nor ACTIVE, or a component's hook returns not-OK.
     """
+    reject = _reject if ask_components else str
     if not start_interfaces and not stop_interfaces:
         return ""
     for key in [*start_interfaces, *stop_interfaces]:
         if key not in storage.commands:
-            return _reject(f"command interface '{key}' does not exist")
+            return reject(f"command interface '{key}' does not exist")
         if key not in storage.available_commands:
-            return _reject(f"command interface '{key}' is not available")
+            return reject(f"command interface '{key}' is not available")
     start, stop = _split(storage, start_interfaces), _split(storage, stop_interfaces)
     for entry in entries:
         name = entry.info.name
@@ -60,11 +64,13 @@ def prepare(
             continue
         state = entry.component.get_lifecycle_state()
         if state not in (State.INACTIVE, State.ACTIVE):
-            return _reject(f"hardware component '{name}' is '{state.label}', not inactive or active")
+            return reject(f"hardware component '{name}' is '{state.label}', not inactive or active")
         if state is State.INACTIVE and start.get(name) and not allow_inactive:
-            return _reject(
+            return reject(
                 f"hardware component '{name}' is inactive; its command interfaces {start[name]} cannot be claimed"
             )
+        if not ask_components:
+            continue
         impl = entry.component.impl
         if hasattr(impl, "mode_switch_rejection"):
             impl.mode_switch_rejection = ""

@@ -169,10 +169,12 @@ def test_student_copy_from_a_solved_tree_has_the_pristine_exercises(clone: Path,
     assert "Not in the copy: uncommitted changes" in result.stdout
     subprocess.run(["git", "checkout", "--", "exercises"], cwd=clone, check=True, env=env)
     assert not (target / "solutions").exists()
-    for path in (clone / "exercises").rglob("*"):
-        if path.is_file() and "__pycache__" not in path.parts:
-            rel = path.relative_to(clone)
-            assert (target / rel).read_bytes() == path.read_bytes(), f"{rel} differs from the committed exercise"
+    tracked = subprocess.run(["git", "ls-files", "exercises"], cwd=clone, env=env, capture_output=True, text=True,
+                             check=True).stdout.split()
+    assert tracked, "no exercise files are committed"
+    for rel in tracked:  # the learner's git-ignored files (attempt log, caches) are not part of the copy
+        assert (target / rel).read_bytes() == (clone / rel).read_bytes(), f"{rel} differs from the committed exercise"
+    assert not (target / "exercises" / ".progress").exists(), "a learner's attempt log was handed out"
     log = subprocess.run(["git", "log", "--oneline"], cwd=target, env=env, capture_output=True, text=True, check=True)
     assert len(log.stdout.splitlines()) == 1, "the student copy is a repository with one commit"
     assert "solutions track" not in (target / "README.md").read_text()

@@ -92,6 +92,24 @@ def test_switch_controllers_and_error_message(system, capsys) -> None:  # noqa: 
     assert system.controller_manager.controllers["other_fwd"].state.label == "active"
 
 
+def test_why_explains_without_switching(system, capsys) -> None:  # noqa: ANN001
+    control("why other_fwd")
+    out = _out(capsys)
+    assert out.startswith("Switch: activate other_fwd\n  strict       would be rejected, nothing would change:")
+    assert "already claimed by 'fwd'" in out and "interface 'j1/position': is claimed by 'fwd'" in out
+    assert system.controller_manager.controllers["other_fwd"].state.label == "inactive"
+    control("why --activate other_fwd --deactivate fwd")
+    assert "strict       would go through: activate other_fwd and deactivate fwd" in _out(capsys)
+    control("why fwd")  # active: the question is whether it can be deactivated
+    assert _out(capsys).startswith("Switch: deactivate fwd\n  strict       would go through")
+    control("why fwd --activate")
+    assert "controller 'fwd' is already active" in _out(capsys)
+    control("why")
+    assert _out(capsys).startswith("Error: %control why needs a controller")
+    control("why fwd --activate --deactivate")
+    assert _out(capsys).startswith("Error: why NAME takes --activate or --deactivate, not both")
+
+
 def test_load_set_state_unload(system, capsys) -> None:  # noqa: ANN001
     control("unload_controller other_fwd")
     control("load_controller other_fwd --set-state inactive")
