@@ -42,6 +42,9 @@ __all__ = [
     "PoseWithCovariance",
     "TwistWithCovariance",
     "Odometry",
+    "LifecycleState",
+    "NamedLifecycleState",
+    "ControllerManagerActivity",
     "SetBoolRequest",
     "SetBoolResponse",
     "ros_type_name",
@@ -358,6 +361,33 @@ class Odometry:
     child_frame_id: str = ""
     pose: PoseWithCovariance = field(default_factory=PoseWithCovariance)
     twist: TwistWithCovariance = field(default_factory=TwistWithCovariance)
+
+
+@dataclass
+class LifecycleState:
+    """``lifecycle_msgs/msg/State``: ``id`` (0 unknown, 1 unconfigured, 2 inactive, 3 active, 4 finalized) and
+    ``label``."""
+
+    id: int = 0
+    label: str = "unknown"
+
+
+@dataclass
+class NamedLifecycleState:
+    """``controller_manager_msgs/msg/NamedLifecycleState``: a controller's or hardware component's state."""
+
+    name: str = ""
+    state: LifecycleState = field(default_factory=LifecycleState)
+
+
+@dataclass
+class ControllerManagerActivity:
+    """``controller_manager_msgs/msg/ControllerManagerActivity``: every controller's and hardware component's
+    state, published on ``/controller_manager/activity`` each time one of them changes."""
+
+    header: Header = field(default_factory=Header)
+    controllers: list[NamedLifecycleState] = field(default_factory=list)
+    hardware_components: list[NamedLifecycleState] = field(default_factory=list)
 
 
 @dataclass

@@ -37,8 +37,8 @@ def create(cm: ControllerManager, name: str, type_name: str | None) -> Controlle
         type_name: Plugin type; None takes it from the controllers YAML.
 
     Raises:
-        ControllerError: If the name is taken, the type is unknown, ``on_init`` fails or
-            ``fallback_controllers`` is not a list of names.
+        ControllerError: If the name is taken, the type is unknown, ``on_init`` fails, or
+            ``fallback_controllers`` is not a list of names or names the controller itself.
         ControllerNotFound: If no type is given and the YAML declares none for ``name``.
         ParameterError: If the parameters do not match the controller's declarations.
     """
@@ -60,6 +60,9 @@ def create(cm: ControllerManager, name: str, type_name: str | None) -> Controlle
     fallback = parameters.get("fallback_controllers", [])
     if not isinstance(fallback, list) or not all(isinstance(f, str) for f in fallback):
         raise ControllerError(f"controller '{name}': 'fallback_controllers' must be a list of names, got {fallback!r}")
+    if name in fallback:  # Jazzy refuses to load it: a failing controller cannot take over from itself
+        raise ControllerError(f"controller '{name}' names itself in 'fallback_controllers' {fallback}; list other "
+                              "controllers that can take over when it fails")
     try:
         result = ctrl.init(name, cm.robot_description, cm.update_rate, cm.bus, parameters, clock=cm.clock.now)
     except Exception:

@@ -5,13 +5,16 @@ updates only on the cycles :func:`~rrbot_workshop.middleware.clock.rate_due` pic
 time since its last update. As with ros2_control's ``handle_exceptions``, a controller whose
 ``update`` raises or does not return OK is deactivated with its chain group, the traceback is
 logged, and its ``fallback_controllers`` are activated in one strict switch. Hardware that fails in
-``read`` or ``write`` deactivates the active controllers holding its interfaces, with their chain groups.
+``read`` or ``write`` deactivates the active controllers holding its interfaces, with their chain groups; hardware
+that deactivates itself from ``write`` stops only the controllers commanding it (if
+``deactivate_controllers_on_hardware_self_deactivate``, Jazzy's default).
 """
 
 from __future__ import annotations
 
 import logging
 import traceback
+from time import perf_counter
 from typing import TYPE_CHECKING
 
 from rrbot_workshop.controller_manager.claims import deactivate_controller
@@ -47,8 +50,14 @@ def update_controllers(cm: ControllerManager, time: float, period: float) -> Non
         last = spec.last_update_time
         if rate < cm.update_rate and not rate_due(last, time, rate, cm.update_rate):
             continue
-        ctrl_period = period if last is None or rate >= cm.update_rate else time - last
+        if rate >= cm.update_rate:
+            ctrl_period = period
+        else:  # Jazzy: a slower controller's first update gets its own nominal period, 1/rate
+            ctrl_period = 1.0 / rate if last is None else time - last
+        if last is None:
+            spec.statistics.reset()
         spec.last_update_time = time
+        started = perf_counter()
         try:
             result = ctrl.update(time, ctrl_period)
         except Exception:
@@ -56,6 +65,9 @@ def update_controllers(cm: ControllerManager, time: float, period: float) -> Non
                 raise
             _log.error("update of controller '%s' raised:\n%s", name, traceback.format_exc())
             result = ReturnType.ERROR
+        stats = spec.statistics
+        stats.execution_time.add((perf_counter() - started) * 1e6)
+        stats.period.add(ctrl_period)
         if result is not ReturnType.OK:
             if result is not ReturnType.ERROR:
                 _log.error("update of controller '%s' returned %r", name, result)
@@ -78,15 +90,18 @@ def controllers_failed(cm: ControllerManager, failed: list[str]) -> None:
             _log.warning("activated fallback controllers %s", fallbacks)
         except (SwitchError, ControllerError) as exc:
             _log.error("could not activate fallback controllers %s: %s", fallbacks, exc)
+    cm.activity.check()
 
 
-def hardware_failed(cm: ControllerManager, hardware: list[str], where: str) -> None:
+def hardware_failed(cm: ControllerManager, hardware: list[str], where: str, commanders_only: bool = False) -> None:
     """Deactivate the active controllers holding interfaces of failed ``hardware``, with their chain groups.
 
     Args:
         cm: The controller manager.
         hardware: Names of the hardware components that failed.
         where: ``"read"`` or ``"write"``, for the log.
+        commanders_only: Only controllers that command the hardware (a component that deactivated itself from
+            ``write`` is INACTIVE: its states stay readable, so broadcasters keep running).
     """
     rm = cm.resource_manager
     users = []
@@ -94,7 +109,7 @@ def hardware_failed(cm: ControllerManager, hardware: list[str], where: str) -> N
         ctrl = cm.controllers[name].controller
         if ctrl.get_lifecycle_state() is not State.ACTIVE:
             continue
-        loans = [*ctrl.command_interfaces, *ctrl.state_interfaces]
+        loans = [*ctrl.command_interfaces] if commanders_only else [*ctrl.command_interfaces, *ctrl.state_interfaces]
         if any(rm.hardware_of_interface(loan.name) in hardware for loan in loans):
             users.append(name)
     group = cm.chain_group(users)

@@ -21,19 +21,23 @@ groups), :mod:`~rrbot_workshop.controller_manager.loop` (rates and failures in a
 
 from __future__ import annotations
 
+import functools
 import logging
 import traceback
 from collections.abc import Callable, Iterable, Mapping
 from types import MappingProxyType
+from typing import Any, TypeVar
 
 from rrbot_workshop.controller_interface.base import ControllerInterface
 from rrbot_workshop.controller_manager import introspection
 from rrbot_workshop.controller_manager import lifecycle as controller_lifecycle
 from rrbot_workshop.controller_manager import loop as controller_loop
+from rrbot_workshop.controller_manager.activity import ActivityReporter
 from rrbot_workshop.controller_manager.chains import chain_group, update_order
 from rrbot_workshop.controller_manager.claims import deactivate_controller, required_interfaces
 from rrbot_workshop.controller_manager.explain import SwitchExplanation
 from rrbot_workshop.controller_manager.explain import explain_switch as _explain
+from rrbot_workshop.controller_manager.parameters import default_strictness, manager_flag
 from rrbot_workshop.controller_manager.services import register_services
 from rrbot_workshop.controller_manager.spec import (
     ControllerSpec,
@@ -42,6 +46,7 @@ from rrbot_workshop.controller_manager.spec import (
     HardwareInterfaces,
     SwitchResult,
 )
+from rrbot_workshop.controller_manager.statistics import ControllerStatistics
 from rrbot_workshop.controller_manager.switch import switch_controllers as _switch
 from rrbot_workshop.exceptions import ControllerError, ControllerNotFound, HardwareError, LifecycleError
 from rrbot_workshop.hardware_interface.resource_manager import ResourceManager
@@ -55,6 +60,22 @@ __all__ = ["ControllerManager"]
 _log = logging.getLogger(__name__)
 
 CycleHook = Callable[[float, float], None]
+
+
+_F = TypeVar("_F", bound=Callable[..., Any])
+
+
+def _reports_activity(method: _F) -> _F:
+    """After the call, successful or not, publish the activity message if a state changed."""
+
+    @functools.wraps(method)
+    def wrapper(self: ControllerManager, *args: Any, **kwargs: Any) -> Any:
+        try:
+            return method(self, *args, **kwargs)
+        finally:
+            self.activity.check()
+
+    return wrapper  # type: ignore[return-value]
 
 
 class ControllerManager:
@@ -88,11 +109,26 @@ class ControllerManager:
         self.clock = clock if clock is not None else SimClock(self.update_rate)
         self.handle_exceptions = bool(self.params.manager_parameters.get("handle_exceptions", handle_exceptions))
         #: Jazzy's ``enforce_command_limits`` (default false): limit commands from the description before write.
-        self.enforce_command_limits = bool(self.params.manager_parameters.get("enforce_command_limits", False))
+        self.enforce_command_limits = manager_flag(self.params, "enforce_command_limits", False)
+        #: ``defaults.switch_controller.strictness`` (Jazzy: best_effort): a switch asked with strictness 0 or None.
+        self.default_strictness = default_strictness(self.params)
+        #: ``defaults.deactivate_controllers_on_hardware_self_deactivate`` (default true): a component that
+        #: deactivates itself from ``write`` stops the controllers commanding it.
+        self.deactivate_controllers_on_hardware_self_deactivate = manager_flag(
+            self.params, "defaults.deactivate_controllers_on_hardware_self_deactivate", True
+        )
+        #: ``defaults.allow_controller_activation_with_inactive_hardware`` (default false), applied by the resource
+        #: manager when a switch claims command interfaces of an INACTIVE component.
+        resource_manager.allow_controller_activation_with_inactive_hardware = manager_flag(
+            self.params, "defaults.allow_controller_activation_with_inactive_hardware",
+            resource_manager.allow_controller_activation_with_inactive_hardware,
+        )
         self._controllers: dict[str, ControllerSpec] = {}
         self._order: list[str] = []
         self._hooks: list[CycleHook] = []
         register_services(self)
+        #: Publishes ``/controller_manager/activity`` when a controller or hardware component changes state.
+        self.activity = ActivityReporter(self)
 
     # ================================================================= lookup
     @property
@@ -131,6 +167,7 @@ class ControllerManager:
         return required_interfaces(self.resource_manager, spec, "state")
 
     # ================================================================= lifecycle (steps in controller_lifecycle)
+    @_reports_activity
     def load_controller(self, name: str, type: str | None = None) -> ControllerInterface:  # noqa: A002
         """Create controller ``name`` of plugin ``type`` (from the controllers YAML if None) and run ``on_init``.
 
@@ -145,6 +182,7 @@ class ControllerManager:
         _log.info("loaded controller '%s' (%s)", name, spec.type)
         return spec.controller
 
+    @_reports_activity
     def configure_controller(self, name: str) -> None:
         """Configure ``name`` (cleaning it up first if inactive); export a chainable controller's
         interfaces into the resource manager and rebuild the update order.
@@ -160,6 +198,7 @@ class ControllerManager:
         controller_lifecycle.configure(self.resource_manager, spec)
         self._order = update_order(self.resource_manager, self._controllers)
 
+    @_reports_activity
     def cleanup_controller(self, name: str) -> None:
         """inactive -> unconfigured; its exported interfaces are removed.
 
@@ -170,6 +209,7 @@ class ControllerManager:
         controller_lifecycle.cleanup(self.resource_manager, self._spec(name))
         self._order = update_order(self.resource_manager, self._controllers)
 
+    @_reports_activity
     def unload_controller(self, name: str) -> None:
         """Clean up (if inactive), shut down and forget controller ``name``.
 
@@ -186,6 +226,7 @@ class ControllerManager:
         del self._controllers[name]
         self._order.remove(name)
 
+    @_reports_activity
     def set_controller_state(self, name: str, state: str | State) -> None:
         """Bring a controller to ``"unconfigured"``, ``"inactive"`` or ``"active"`` (``ros2 control set_controller_state``).
 
@@ -198,11 +239,12 @@ class ControllerManager:
         controller_lifecycle.set_state(self, self._spec(name), state)
 
     # ================================================================= switching
+    @_reports_activity
     def switch_controllers(
         self,
         activate: Iterable[str] = (),
         deactivate: Iterable[str] = (),
-        strictness: str | int = "best_effort",
+        strictness: str | int | None = None,
         activate_asap: bool = True,
         timeout: float = 0.0,
     ) -> SwitchResult:
@@ -214,8 +256,9 @@ class ControllerManager:
         Args:
             activate: Controllers to activate.
             deactivate: Controllers to deactivate.
-            strictness: ``"best_effort"`` (Jazzy's default) drops requests that cannot be done;
-                ``"strict"`` rejects the whole switch. ``1``/``2`` (the service constants) work too.
+            strictness: ``"best_effort"`` drops requests that cannot be done; ``"strict"`` rejects the whole
+                switch. ``1``/``2`` (the service constants) work too; None or ``0`` take the manager's
+                ``defaults.switch_controller.strictness`` (``best_effort`` in Jazzy).
             activate_asap: Kept for fidelity.
             timeout: Kept for fidelity, in [s].
 
@@ -228,7 +271,7 @@ class ControllerManager:
         """
         if isinstance(activate, str) or isinstance(deactivate, str):
             raise ControllerError("activate and deactivate take lists of controller names, not a single string")
-        return _switch(self, activate, deactivate, strictness)
+        return _switch(self, activate, deactivate, self.default_strictness if strictness in (None, 0) else strictness)
 
     def explain_switch(
         self, activate: Iterable[str] = (), deactivate: Iterable[str] = (), strictness: str | int | None = None
@@ -254,6 +297,7 @@ class ControllerManager:
         status = self.resource_manager.read(time, period)
         if not status.ok:
             controller_loop.hardware_failed(self, status.failed_hardware_names, "read")
+            self.activity.check()
 
     def write(self, time: float, period: float) -> None:
         """Write all hardware (commands limited first if ``enforce_command_limits``); controllers using failed
@@ -262,7 +306,15 @@ class ControllerManager:
             self.resource_manager.enforce_command_limits(period)
         status = self.resource_manager.write(time, period)
         if not status.ok:
-            controller_loop.hardware_failed(self, status.failed_hardware_names, "write")
+            rm = self.resource_manager
+            # a component left INACTIVE deactivated itself (DEACTIVATE); one that failed went through error()
+            quiet = [h for h in status.failed_hardware_names if rm.get_component(h).get_lifecycle_state() is State.INACTIVE]
+            failed = [h for h in status.failed_hardware_names if h not in quiet]
+            if failed:
+                controller_loop.hardware_failed(self, failed, "write")
+            if quiet and self.deactivate_controllers_on_hardware_self_deactivate:
+                controller_loop.hardware_failed(self, quiet, "write", commanders_only=True)
+            self.activity.check()
 
     def update_controllers(self, time: float, period: float) -> None:
         """Update each active controller that is due, in chain order.
@@ -299,6 +351,10 @@ class ControllerManager:
         """``ControllerState`` of each controller, in update order."""
         return introspection.list_controllers(self)
 
+    def controller_statistics(self) -> dict[str, ControllerStatistics]:
+        """Each loaded controller's update periods [s] and execution times [µs] since its last activation."""
+        return {name: self._controllers[name].statistics for name in self._order}
+
     def list_hardware_components(self) -> list[HardwareComponentState]:
         """``HardwareComponentState`` of each hardware component."""
         return introspection.list_hardware_components(self)
@@ -315,6 +371,7 @@ class ControllerManager:
         """Graphviz DOT text of the controller chains."""
         return introspection.view_controller_chains(self)
 
+    @_reports_activity
     def set_hardware_component_state(self, name: str, state: str | State) -> bool:
         """Drive hardware component ``name`` to ``state`` (``"unconfigured"``, ``"inactive"``, ``"active"``, ``"finalized"``).
 

@@ -10,6 +10,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from rrbot_workshop.controller_interface.base import ControllerInterface
+from rrbot_workshop.controller_manager.statistics import ControllerStatistics
 from rrbot_workshop.middleware.lifecycle import State
 
 __all__ = [
@@ -33,6 +34,7 @@ class ControllerSpec:
         controller: The controller instance.
         fallback_controllers: Controllers to activate if this one fails in ``update``.
         last_update_time: Time of its last ``update`` in [s] (None before the first after activation).
+        statistics: Periods and execution times of its updates since its last activation.
     """
 
     name: str
@@ -40,6 +42,7 @@ class ControllerSpec:
     controller: ControllerInterface
     fallback_controllers: list[str] = field(default_factory=list)
     last_update_time: float | None = None
+    statistics: ControllerStatistics = field(default_factory=ControllerStatistics)
 
     @property
     def state(self) -> State:

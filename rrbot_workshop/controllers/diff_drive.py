@@ -251,6 +251,11 @@ class DiffDriveController(ChainableControllerInterface):
             return ReturnType.OK  # nothing commanded yet
         separation, r_left, r_right = self._geometry()
         p = self._p
+        # limits first: open-loop odometry integrates what the wheels are told, the limited twist (as Jazzy)
+        (last_lin, last_ang), (prev_lin, prev_ang) = self._previous[1], self._previous[0]
+        linear = self._limit_linear.limit(linear, last_lin, prev_lin, period)
+        angular = self._limit_angular.limit(angular, last_ang, prev_ang, period)
+        self._previous = [self._previous[1], (linear, angular)]
         if p.open_loop:
             self.odometry.update_open_loop(linear, angular, time)
         else:
@@ -267,10 +272,6 @@ class DiffDriveController(ChainableControllerInterface):
         if self._last_publish is None or self._last_publish + 1.0 / p.publish_rate < time:
             self._last_publish = time if self._last_publish is None else self._last_publish + 1.0 / p.publish_rate
             self._publish_odometry(time)
-        (last_lin, last_ang), (prev_lin, prev_ang) = self._previous[1], self._previous[0]
-        linear = self._limit_linear.limit(linear, last_lin, prev_lin, period)
-        angular = self._limit_angular.limit(angular, last_ang, prev_ang, period)
-        self._previous = [self._previous[1], (linear, angular)]
         if self._limited_pub is not None:
             out = TwistStamped(Header(stamp=time))
             out.twist.linear.x, out.twist.angular.z = linear, angular

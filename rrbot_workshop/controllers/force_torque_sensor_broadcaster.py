@@ -5,6 +5,11 @@ ros2_control ``ForceTorqueSensor`` semantic component names them), or some of
 ``interface_names.force.{x,y,z}`` / ``interface_names.torque.{x,y,z}`` give full interface names; an
 axis without an interface is published as NaN. ``frame_id`` is required.
 
+Each reading is corrected per axis as Jazzy does: ``(value + offset.<group>.<axis>) * multiplier.<group>.<axis>``
+(defaults 0 and 1). The corrected wrench is published and exported as six state interfaces
+``<controller>/force.x`` ... ``<controller>/torque.z`` that other controllers can read (the broadcaster is
+chainable; it has no reference interfaces).
+
 Differences from Jazzy: a configuration mistake returns FAILURE (the controller stays unconfigured and
 can be fixed and configured again) where Jazzy returns ERROR; the optional filter chain and
 ``~/wrench_filtered`` are not provided.
@@ -16,10 +21,11 @@ import math
 from typing import ClassVar
 
 from rrbot_workshop.controller_interface.base import (
-    ControllerInterface,
+    ChainableControllerInterface,
     InterfaceConfiguration,
     InterfaceConfigurationType,
 )
+from rrbot_workshop.hardware_interface.handles import StateInterface
 from rrbot_workshop.middleware.lifecycle import CallbackReturn, ReturnType, State
 from rrbot_workshop.middleware.topics import Publisher
 from rrbot_workshop.msgs import Header, Vector3, Wrench, WrenchStamped
@@ -30,22 +36,22 @@ __all__ = ["ForceTorqueSensorBroadcaster", "AXES"]
 AXES = (("force", "x"), ("force", "y"), ("force", "z"), ("torque", "x"), ("torque", "y"), ("torque", "z"))
 
 
-def _axis_parameters() -> str:
+def _axis_parameters(ptype: str, default: str, what: str) -> str:
     lines = []
     for group in ("force", "torque"):
         lines.append(f"    {group}:")
         for axis in "xyz":
             lines += [
                 f"      {axis}:",
-                "        type: string",
-                '        default_value: ""',
-                f'        description: "State interface with the {group} along {axis}."',
+                f"        type: {ptype}",
+                f"        default_value: {default}",
+                f'        description: "{what} {group} along {axis}."',
             ]
     return "\n".join(lines)
 
 
-class ForceTorqueSensorBroadcaster(ControllerInterface):
-    """Publishes a force-torque sensor's state interfaces as ``geometry_msgs/WrenchStamped``."""
+class ForceTorqueSensorBroadcaster(ChainableControllerInterface):
+    """Publishes a force-torque sensor's state interfaces as ``geometry_msgs/WrenchStamped`` and exports them."""
 
     PARAMETERS: ClassVar[str | None] = f"""
 force_torque_sensor_broadcaster:
@@ -60,7 +66,11 @@ force_torque_sensor_broadcaster:
     default_value: ""
     description: "Sensor name; its interfaces are <sensor_name>/force.x ... torque.z."
   interface_names:
-{_axis_parameters()}
+{_axis_parameters("string", '""', "State interface with the")}
+  offset:
+{_axis_parameters("double", "0.0", "Added to the measured")}
+  multiplier:
+{_axis_parameters("double", "1.0", "Multiplies the (offset) measured")}
 """
 
     def __init__(self) -> None:
@@ -68,6 +78,8 @@ force_torque_sensor_broadcaster:
         self._names: list[str | None] = [None] * 6  # full interface name per axis, None = absent
         self._frame_id = ""
         self._pub: Publisher | None = None
+        self._offset = [0.0] * 6
+        self._multiplier = [1.0] * 6
 
     def on_configure(self, previous_state: State) -> CallbackReturn:
         """Work out the six interface names; create ``~/wrench``."""
@@ -89,6 +101,8 @@ force_torque_sensor_broadcaster:
         else:
             self._names = [n or None for n in given]
         self._frame_id = params.frame_id
+        self._offset = [float(getattr(getattr(params.offset, g), a)) for g, a in AXES]
+        self._multiplier = [float(getattr(getattr(params.multiplier, g), a)) for g, a in AXES]
         if self._pub is None:
             self._pub = self.get_node().create_publisher(WrenchStamped, "~/wrench")
         return CallbackReturn.SUCCESS
@@ -97,15 +111,25 @@ force_torque_sensor_broadcaster:
         """The configured axes' interfaces, in the order force x, y, z, torque x, y, z."""
         return InterfaceConfiguration(InterfaceConfigurationType.INDIVIDUAL, [n for n in self._names if n])
 
-    def update(self, time: float, period: float) -> ReturnType:
-        """Publish the wrench, stamped with ``time``."""
+    def on_export_state_interfaces(self) -> list[StateInterface]:
+        """The corrected wrench as ``<controller>/force.x`` ... ``<controller>/torque.z``."""
+        return [StateInterface(self.get_name(), f"{g}.{a}", initial_value=math.nan) for g, a in AXES]
+
+    def update_reference_from_subscribers(self, time: float, period: float) -> ReturnType:
+        """A broadcaster has no references to read."""
+        return ReturnType.OK
+
+    def update_and_write_commands(self, time: float, period: float) -> ReturnType:
+        """Correct each axis, export and publish the wrench, stamped with ``time``."""
         values = [math.nan] * 6
         loans = iter(self.state_interfaces)
         for k, name in enumerate(self._names):
             if name:
                 loan = next(loans, None)
                 if loan is not None:
-                    values[k] = float(loan.get_value())
+                    values[k] = (float(loan.get_value()) + self._offset[k]) * self._multiplier[k]
+        for handle, value in zip(self.exported_state_interfaces, values, strict=False):
+            handle.set_value(value)
         if self._pub is not None:
             self._pub.publish(WrenchStamped(
                 header=Header(stamp=time, frame_id=self._frame_id),

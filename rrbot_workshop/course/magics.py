@@ -70,6 +70,8 @@ def _control_parser() -> _Parser:
     hw.add_argument("name")
     hw.add_argument("state", choices=["unconfigured", "inactive", "active", "finalized"])
     sub.add_parser("view_controller_chains", add_help=False)
+    st = sub.add_parser("statistics", add_help=False)
+    st.add_argument("--no-execution-time", action="store_true")
     why = sub.add_parser("why", add_help=False)
     why.add_argument("name", nargs="?", default=None)
     why.add_argument("--activate", nargs="*", default=None)
@@ -81,7 +83,7 @@ _VERBS = (
     "list_controllers [-v], list_hardware_components [-v], list_hardware_interfaces [-v], list_controller_types, "
     "load_controller <name> [--set-state inactive|active], set_controller_state <name> <state>, "
     "switch_controllers [--activate ...] [--deactivate ...] [--strict], unload_controller <name>, "
-    "set_hardware_component_state <name> <state>, view_controller_chains, "
+    "set_hardware_component_state <name> <state>, view_controller_chains, statistics [--no-execution-time], "
     "why <name> [--activate|--deactivate] (or why --activate ... --deactivate ...)"
 )
 
@@ -135,6 +137,27 @@ def _print_controllers(system: System, verbose: bool) -> None:
                 print(f"\t{title}:")
                 for item in items:
                     print(f"\t\t{item}")
+
+
+def _print_statistics(system: System, execution_time: bool) -> None:
+    """Per controller: updates, period mean/min/max [ms] (manager's clock), execution time mean/max [µs]."""
+    stats = system.controller_manager.controller_statistics()
+    if not stats:
+        print("No controllers are currently loaded!")
+        return
+    wn = max(len(n) for n in stats)
+    head = f"{'controller':<{wn}}  updates  period mean/min/max [ms]"
+    print(head + ("   execution mean/max [us]" if execution_time else ""))
+    for name, s in stats.items():
+        p = s.period
+        if not p.count:
+            print(f"{name:<{wn}}  {0:>7}")
+            continue
+        line = f"{name:<{wn}}  {p.count:>7}  {p.mean * 1e3:7.2f} {p.minimum * 1e3:7.2f} {p.maximum * 1e3:7.2f}"
+        if execution_time:
+            e = s.execution_time
+            line += f"   {e.mean:9.1f} {e.maximum:9.1f}"
+        print(line)
 
 
 def _print_hardware_components(system: System, verbose: bool) -> None:
@@ -217,6 +240,8 @@ def control(line: str) -> None:
                 print(f"Error: hardware component {args.name} did not reach {args.state}; it is {state}")
         elif verb == "view_controller_chains":
             print(cm.view_controller_chains(), end="")
+        elif verb == "statistics":
+            _print_statistics(system, not args.no_execution_time)
         elif verb == "why":
             activate, deactivate = _why_lists(cm, args)
             print(cm.explain_switch(activate=activate, deactivate=deactivate))

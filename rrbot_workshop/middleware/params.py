@@ -133,6 +133,17 @@ def load_controllers_yaml(source: str | Path | Mapping[str, Any]) -> Controllers
             if not isinstance(rate, int) or isinstance(rate, bool) or rate <= 0:
                 raise ParameterError("controller_manager", "update_rate", f"must be a positive integer [Hz], got {rate!r}")
             cfg.update_rate = rate
+        elif key == "/**":
+            # '/**' reaches every node, the controller manager too: '<name>: {type: ...}' there declares a
+            # controller (unless the controller_manager section declares it itself); the rest goes to every controller
+            shared = {}
+            for pname, pval in params.items():
+                ctype = pval.get("type") if isinstance(pval, Mapping) else None
+                if isinstance(ctype, str) and "/" in ctype:
+                    cfg.controller_types.setdefault(str(pname), ctype)
+                else:
+                    shared[pname] = pval
+            cfg.controller_parameters.setdefault(key, {}).update(copy.deepcopy(shared))
         else:
             cfg.controller_parameters.setdefault(key, {}).update(copy.deepcopy(dict(params)))
     return cfg

@@ -228,6 +228,14 @@ def test_open_loop_odometry_integrates_the_command() -> None:
     assert h.controller.odometry.x == pytest.approx(0.2 * 0.5, abs=0.003)
 
 
+def test_open_loop_odometry_integrates_the_limited_command() -> None:
+    """Jazzy: with open_loop the odometry follows what the wheels are told, the twist after the speed limiter."""
+    h = make(open_loop=True, linear={"x": {"max_velocity": 0.05}})
+    h.publish("~/cmd_vel", twist(0.2, 0.0))
+    h.update(51)
+    assert h.controller.odometry.x == pytest.approx(0.05 * 0.5, abs=0.003)
+
+
 def test_speed_limit_applies_to_the_wheels() -> None:
     h = make(linear={"x": {"max_velocity": 0.05}})
     h.publish("~/cmd_vel", twist(0.1, 0.0))

@@ -84,3 +84,30 @@ def test_missing_frame_id_rejected_at_load():
 def test_plugin_name_resolves():
     assert plugins.resolve("controller", "force_torque_sensor_broadcaster/ForceTorqueSensorBroadcaster") \
         is ForceTorqueSensorBroadcaster
+
+
+def test_offset_then_multiplier_correct_each_axis_in_the_message_and_the_exports():
+    """Jazzy's offset.* and multiplier.* parameters: published = (measured + offset) * multiplier, per axis."""
+    params = {"sensor_name": "tcp_fts_sensor", "frame_id": "tool0",
+              "offset": {"force": {"x": -1.1, "z": 0.7}, "torque": {"y": 0.5}},
+              "multiplier": {"force": {"z": 2.0}, "torque": {"x": -1.0, "y": 10.0}}}
+    h = _run(params)
+    w = h.latest("~/wrench").wrench
+    got = [w.force.x, w.force.y, w.force.z, w.torque.x, w.torque.y, w.torque.z]
+    assert got == pytest.approx([0.0, 2.2, (3.3 + 0.7) * 2.0, -4.4, (5.5 + 0.5) * 10.0, 6.6])
+    exported = [f"fts_broadcaster/{g}.{a}" for g in ("force", "torque") for a in "xyz"]
+    assert h.values(exported) == pytest.approx(got)
+
+
+def test_the_broadcaster_is_chainable_and_exports_six_state_interfaces_but_no_references():
+    h = _run({"sensor_name": "tcp_fts_sensor", "frame_id": "tool0"})
+    c = h.controller
+    assert c.is_chainable()
+    assert [i.name for i in c.exported_state_interfaces] == [
+        f"fts_broadcaster/{g}.{a}" for g in ("force", "torque") for a in "xyz"]
+    assert c.reference_interfaces == []
+
+
+def test_a_non_number_offset_is_rejected_at_load():
+    with pytest.raises(ParameterError, match="offset.force.x"):
+        _harness({"sensor_name": "tcp_fts_sensor", "frame_id": "tool0", "offset": {"force": {"x": "a lot"}}})

@@ -110,6 +110,16 @@ def test_why_explains_without_switching(system, capsys) -> None:  # noqa: ANN001
     assert _out(capsys).startswith("Error: why NAME takes --activate or --deactivate, not both")
 
 
+def test_statistics_prints_periods_on_the_managers_clock(system, capsys) -> None:  # noqa: ANN001
+    system.spin(0.5)
+    control("statistics --no-execution-time")
+    lines = _out(capsys).splitlines()
+    assert lines[0].split() == ["controller", "updates", "period", "mean/min/max", "[ms]"]
+    assert lines[1].split() == ["fwd", "50", "10.00", "10.00", "10.00"] and lines[2].split() == ["other_fwd", "0"]
+    control("statistics")
+    assert "execution mean/max [us]" in _out(capsys)
+
+
 def test_load_set_state_unload(system, capsys) -> None:  # noqa: ANN001
     control("unload_controller other_fwd")
     control("load_controller other_fwd --set-state inactive")
