@@ -79,6 +79,15 @@ def _component(element: ET.Element, ctx: XmlContext) -> ComponentInfo:
     component.state_interfaces = [
         _interface(e, inner, name, component.enable_limits) for e in children(element, "state_interface")
     ]
+    for kind_tag, found in (("command_interface", component.command_interfaces),
+                            ("state_interface", component.state_interfaces)):
+        names = [i.name for i in found]
+        twice = sorted({n for n in names if names.count(n) > 1})
+        if twice:  # the resource manager would store the same key twice: refuse it where it is written
+            raise inner.error(
+                f"<{kind_tag} name='{twice[0]}'> appears {names.count(twice[0])} times in {inner.where}; "
+                f"declare each {kind_tag} once (this {kind} has {sorted(set(names))})", "name"
+            )
     component.parameters = parameters(element, ctx, name)
     return component
 
@@ -191,7 +200,14 @@ def _hardware_info(element: ET.Element, source: str | None) -> HardwareInfo:
                 params.setdefault("print_warnings", "true")
                 hardware.async_params = params
         elif tag in ("joint", "sensor", "gpio"):
-            getattr(hardware, f"{tag}s").append(_component(child, ctx))
+            component = _component(child, ctx)
+            same = [c for c in getattr(hardware, f"{tag}s") if c.name == component.name]
+            if same:
+                raise ctx.enter(child).error(
+                    f"<{tag} name='{component.name}'> appears twice in {ctx.where}; list each {tag} once, with all of "
+                    "its command and state interfaces in that one element", "name"
+                )
+            getattr(hardware, f"{tag}s").append(component)
         elif tag == "transmission":
             hardware.transmissions.append(_transmission(child, ctx))
         else:

@@ -138,12 +138,51 @@ def _check_origin(element: ET.Element, where: str, source: str | None) -> None:
                 )
 
 
+#: Geometry attributes and how many positive numbers each holds.
+_GEOMETRY = {"box": (("size", 3),), "cylinder": (("radius", 1), ("length", 1)), "sphere": (("radius", 1),)}
+
+
+def _check_geometry(part: ET.Element, where: str, source: str | None) -> None:
+    """``<geometry>``: box sizes, cylinder and sphere dimensions are positive finite numbers [m]; a mesh names a file
+    and its scale, if given, is three finite numbers (a viewer or MuJoCo would fail on anything else, later)."""
+    for geometry in _children(part, "geometry"):
+        for shape in geometry:
+            if not isinstance(shape.tag, str):
+                continue
+            kind = local_name(shape)
+            if kind == "mesh":
+                if not shape.get("filename"):
+                    raise _fail(f"<mesh> of {where} has no 'filename' attribute (it is required)", source)
+                checks: tuple[tuple[str, int], ...] = (("scale", 3),) if shape.get("scale") is not None else ()
+                positive = False
+            else:
+                checks = _GEOMETRY.get(kind, ())
+                positive = True
+            for attribute, count in checks:
+                text = shape.get(attribute)
+                if text is None:
+                    raise _fail(f"<{kind}> of {where} has no '{attribute}' attribute (it is required)", source)
+                try:
+                    values = [float(v) for v in text.split()]
+                except ValueError:
+                    values = []
+                if len(values) != count or not all(math.isfinite(v) and (v > 0 or not positive) for v in values):
+                    what = "positive" if positive else "finite"
+                    raise _fail(
+                        f"<{kind} {attribute}='{text}'> of {where} must be {count} {what} number"
+                        f"{'s' if count > 1 else ''} [m]", source
+                    )
+
+
 def _check_link(link: ET.Element, name: str, source: str | None) -> None:
-    """Origins of a link's inertial, visuals and collisions; a positive mass and a positive-definite inertia."""
+    """Origins of a link's inertial, visuals and collisions; their geometry; a positive mass and a positive-definite
+    inertia."""
     where = f"link '{name}'"
     for part in ("inertial", "visual", "collision"):
         for element in _children(link, part):
             _check_origin(element, f"<{part}> of {where}", source)
+            if part != "inertial":
+                _check_geometry(element, f"<{part}> of {where}", source)
     for inertial in _children(link, "inertial"):
         for mass in _children(inertial, "mass"):
             value = _float(mass, "value", None, where, source)

@@ -356,3 +356,22 @@ def test_mimicked_joint_outside_the_tag_is_rejected() -> None:
     links = _LINKS_AND_JOINTS.replace('<child link="link2"/>', '<child link="link2"/><mimic joint="joint1"/>')
     body = '<joint name="joint2"><state_interface name="position"/></joint>'
     _reject(_urdf(_system(body), links), "Mimic joint 'joint1'", "not found in <ros2_control name='sys'>")
+
+
+def test_a_joint_listed_twice_in_one_block_is_rejected_naming_it() -> None:
+    twice = _JOINTS + '<joint name="joint1"><state_interface name="velocity"/></joint>'
+    err = _reject(_urdf(_system(twice)), "<joint name='joint1'> appears twice in <ros2_control name='sys'>",
+                  "list each joint once")
+    assert err.element is not None and "joint1" in err.element
+
+
+@pytest.mark.parametrize("kind", ["command_interface", "state_interface"])
+def test_an_interface_declared_twice_is_rejected_naming_it(kind: str) -> None:
+    body = f'<joint name="joint1"><{kind} name="position"/><{kind} name="position"/></joint>'
+    _reject(_urdf(_system(body)), f"<{kind} name='position'> appears 2 times in <joint name='joint1'>",
+            f"declare each {kind} once")
+
+
+def test_the_same_gpio_twice_is_rejected() -> None:
+    body = _JOINTS + '<gpio name="io"><state_interface name="a"/></gpio><gpio name="io"><state_interface name="b"/></gpio>'
+    _reject(_urdf(_system(body)), "<gpio name='io'> appears twice")

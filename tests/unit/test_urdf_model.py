@@ -75,6 +75,11 @@ def test_physical_description_is_accepted() -> None:
     ('<origin xyz="0 0 0.5"/>', '<origin xyz="0 0"/>', "of <visual> of link 'arm' must be three finite numbers"),
     ('lower="-1" upper="1"', 'lower="1" upper="-1"', "has lower above upper (valid: lower <= upper)"),
     ('effort="10"', 'effort="nan"', "<limit effort='nan'> of joint 'j' must be a finite number"),
+    ('<box size="0.1 0.1 1"/>', '<box size="0.1 0.1"/>', "<box size='0.1 0.1'> of <visual> of link 'arm' must be 3 positive"),
+    ('<box size="0.1 0.1 1"/>', '<box size="0.1 -0.1 1"/>', "must be 3 positive numbers [m]"),
+    ('<box size="0.1 0.1 1"/>', '<cylinder radius="0.1"/>', "<cylinder> of <visual> of link 'arm' has no 'length'"),
+    ('<box size="0.1 0.1 1"/>', '<sphere radius="abc"/>', "<sphere radius='abc'> of <visual> of link 'arm' must be 1"),
+    ('<box size="0.1 0.1 1"/>', '<mesh/>', "<mesh> of <visual> of link 'arm' has no 'filename'"),
 ])
 def test_unphysical_description_is_rejected_naming_the_element(old: str, new: str, expected: str) -> None:
     """NaN/inf numbers, lower > upper, non-positive masses and inertias are rejected with the file and element."""
