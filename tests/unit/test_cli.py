@@ -174,6 +174,59 @@ def test_two_resets_in_the_same_second_keep_both_backups(course: Path) -> None:
     assert first.backup.name == "task05_20260102-030405" and second.backup.name == "task05_20260102-030405_2"
 
 
+def _committed(course: Path) -> Path:
+    _git(course, "init", "-q")
+    _git(course, "add", "exercises")
+    _git(course, "commit", "-q", "-m", "course")
+    exercise = course / "exercises" / "task05_fake"
+    (exercise / "answer.txt").write_text("my work\n")
+    return exercise
+
+
+@pytest.mark.skipif(shutil.which("git") is None, reason="needs git")
+def test_reset_with_an_unwritable_backup_folder_changes_nothing_and_says_why(
+    course: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    exercise = _committed(course)
+
+    def no_space(src: object, dst: str, *args: object, **kwargs: object) -> None:
+        Path(dst).mkdir(parents=True)
+        (Path(dst) / "half.txt").write_text("x")
+        raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr(shutil, "copytree", no_space)
+    assert main(["reset", "5"]) == 2
+    err = capsys.readouterr().err
+    assert "cannot back up your files there (No space left on device); nothing was changed" in err
+    assert (exercise / "answer.txt").read_text() == "my work\n"
+    assert list((course / "backups").iterdir()) == [], "a half-written backup was left behind"
+
+
+@pytest.mark.skipif(shutil.which("git") is None, reason="needs git")
+def test_a_reset_failing_half_way_leaves_the_learners_files_in_place(
+    course: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    exercise = _committed(course)
+    (exercise / "more.txt").write_text("notes\n")
+    real = Path.write_bytes
+    broken = [True]
+
+    def failing(self: Path, data: bytes) -> int:
+        if broken[0] and ".reset" in str(self):
+            raise OSError(13, "Permission denied")
+        return real(self, data)
+
+    monkeypatch.setattr(Path, "write_bytes", failing)
+    with pytest.raises(CourseError, match="could not be restored \\(Permission denied\\); your files are unchanged"):
+        reset_exercise(5)
+    assert (exercise / "answer.txt").read_text() == "my work\n" and (exercise / "more.txt").is_file()
+    assert sorted(p.name for p in (course / "exercises").iterdir()) == ["task05_fake"], "temporary folders were left"
+    broken[0] = False
+    result = reset_exercise(5)  # and the next reset works
+    assert (exercise / "answer.txt").read_text() == "TODO\n" and not (exercise / "more.txt").exists()
+    assert result.backup is not None and (result.backup / "more.txt").is_file()
+
+
 def test_reset_without_pristine_copy_changes_nothing(course: Path, capsys: pytest.CaptureFixture[str]) -> None:
     (course / "exercises" / "task05_fake" / "answer.txt").write_text("my work\n")
     assert main(["reset", "5"]) == 2

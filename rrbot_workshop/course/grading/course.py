@@ -152,12 +152,38 @@ def reset_exercise(task: int, *, now: datetime | None = None) -> ResetResult:
     backup: Path | None = None
     if folder.exists():
         backup = _backup_dir(root, task, now or datetime.now())
-        shutil.copytree(folder, backup)
-        shutil.rmtree(folder)
-    for rel, content in sorted(files.items()):
-        target = folder / rel
-        target.parent.mkdir(parents=True, exist_ok=True)
-        target.write_bytes(content)
+        try:
+            shutil.copytree(folder, backup)
+        except OSError as exc:
+            shutil.rmtree(backup, ignore_errors=True)
+            raise CourseError("backup folder", str(backup.parent),
+                              f"cannot back up your files there ({exc.strerror or exc}); nothing was changed. Make "
+                              "'backups/' writable (or free some space) and reset again") from None
+    # the pristine files go to a folder beside the exercise first; the learner's folder is swapped out only once
+    # they are all written, so a failure half-way leaves the learner's files where they were
+    fresh = folder.with_name(f".{folder.name}.reset")
+    old = folder.with_name(f".{folder.name}.old")
+    for leftover in (fresh, old):
+        shutil.rmtree(leftover, ignore_errors=True)
+    try:
+        for rel, content in sorted(files.items()):
+            target = fresh / rel
+            target.parent.mkdir(parents=True, exist_ok=True)
+            target.write_bytes(content)
+        if folder.exists():
+            folder.rename(old)
+        try:
+            fresh.rename(folder)
+        except OSError:
+            if old.exists():
+                old.rename(folder)
+            raise
+    except OSError as exc:
+        shutil.rmtree(fresh, ignore_errors=True)
+        raise CourseError("exercise folder", str(folder),
+                          f"could not be restored ({exc.strerror or exc}); your files are unchanged"
+                          + (f" and also saved in {backup}" if backup else "")) from None
+    shutil.rmtree(old, ignore_errors=True)
     logger.info("restored %s from %s (backup: %s)", folder, source, backup)
     return ResetResult(folder=folder, backup=backup, source=source, files=len(files))
 
