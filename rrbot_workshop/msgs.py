@@ -174,6 +174,11 @@ class JointTrajectoryPoint:
     effort: list[float] = field(default_factory=list)
     time_from_start: float = 0.0
 
+    def copy(self) -> JointTrajectoryPoint:
+        """An independent copy (its lists are new), much cheaper than ``copy.deepcopy`` in a control cycle."""
+        return JointTrajectoryPoint(list(self.positions), list(self.velocities), list(self.accelerations),
+                                    list(self.effort), self.time_from_start)
+
 
 @dataclass
 class JointTrajectory:

@@ -216,7 +216,7 @@ class JointTrajectoryController(ControllerInterface, FollowJointTrajectoryServer
         if p.set_last_command_interface_value_as_state_on_activation and len(self._map_cmd_to_joints) == self._dof \
                 and state is not None:
             self.state_current = state
-            self._last_cmd_state = copy.deepcopy(state)
+            self._last_cmd_state = state.copy()
         else:
             self.state_current = io.read_state()
             self._last_cmd_state = io.read_state()
@@ -347,7 +347,7 @@ class JointTrajectoryController(ControllerInterface, FollowJointTrajectoryServer
         if self._has_cmd["effort"]:
             # with [position, effort] upstream writes the effort sampled at `time`, not one period ahead
             io.write("effort", pid_out if self._use_pid else self.state_desired.effort)
-        self._last_cmd_state = copy.deepcopy(nxt)
+        self._last_cmd_state = nxt.copy()
         self._last_cmd_time = time
 
     def _publish_state(self, io: JointInterfaces, time: float) -> None:

@@ -237,7 +237,7 @@ class Trajectory:
         shifted by whole turns towards the first waypoint.
         """
         self._time_before = current_time
-        state = copy.deepcopy(current_point)
+        state = current_point.copy()
         first = self._msg.points[0] if self._msg is not None and self._msg.points else None
         if first is not None:
             if not state.velocities and first.velocities:
@@ -295,7 +295,7 @@ class Trajectory:
         first_time = self._start_time + first.time_from_start
         if sample_time < first_time:
             if method is InterpolationMethod.NONE:
-                out = copy.deepcopy(self._state_before)
+                out = self._state_before.copy()
             else:
                 deduce_from_derivatives(self._state_before, first, dim, first_time - self._time_before)
                 out = interpolate_between_points(self._time_before, self._state_before, first_time, first, sample_time)
@@ -305,14 +305,14 @@ class Trajectory:
             t1 = self._start_time + points[i + 1].time_from_start
             if t0 <= sample_time < t1:
                 if method is InterpolationMethod.NONE:
-                    out = copy.deepcopy(points[i + 1])
+                    out = points[i + 1].copy()
                 else:
                     deduce_from_derivatives(points[i], points[i + 1], dim, t1 - t0)
                     out = interpolate_between_points(t0, points[i], t1, points[i + 1], sample_time)
                 out.time_from_start = points[i + 1].time_from_start
                 return TrajectorySample(out, i, i + 1)
         # the whole trajectory has played out: hold the last waypoint
-        out = copy.deepcopy(points[-1])
+        out = points[-1].copy()
         n = len(out.positions)
         if not out.velocities:
             out.velocities = [0.0] * n
