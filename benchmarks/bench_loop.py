@@ -3,9 +3,9 @@
 Brings up RRBot on mock hardware (``mock_components/GenericSystem``) with ``joint_state_broadcaster``
 and ``forward_position_controller`` through :func:`rrbot_workshop.bringup`, and counts control cycles
 per second of wall time on the simulated clock (no sleeping). The baseline does the same work per
-cycle in a few lines of plain Python: read the mock (state follows command), broadcast a JointState,
-forward the latest command, write. The ratio is the price of the framework's structure (lifecycle
-checks, loans, chain order, rate rule, topic bus).
+cycle in plain Python: read the mock (state follows command), read all 18 interfaces the broadcaster reads,
+publish both broadcaster messages (built when read, as the framework does), forward the latest command. The ratio
+is the price of the framework's structure (lifecycle checks, loans, chain order, rate rule, statistics).
 
 Run: ``.venv/bin/python benchmarks/bench_loop.py [cycles]``. Not part of the test suite.
 """
@@ -17,7 +17,7 @@ import time
 
 import rrbot_workshop as rw
 from rrbot_workshop.middleware.topics import TopicBus
-from rrbot_workshop.msgs import Float64MultiArray, Header, JointState
+from rrbot_workshop.msgs import DynamicJointState, Float64MultiArray, Header, InterfaceValue, JointState
 
 
 def bench_framework(cycles: int) -> float:
@@ -35,39 +35,67 @@ def bench_framework(cycles: int) -> float:
 
 
 def bench_plain(cycles: int) -> float:
-    """Cycles per second of a hand-written loop doing the same work."""
+    """Cycles per second of a hand-written loop doing the framework's work, no less.
+
+    Per cycle, as the framework does on RRBot: deliver the topic messages; read the mock (each position state follows
+    its command, each GPIO output's state its command); read every one of the 18 state interfaces the broadcaster
+    reads (joints, force-torque sensor, GPIO); publish ``/joint_states`` and ``/dynamic_joint_states`` built only when
+    read (as the framework's lazy publishing does); copy the latest forward command into the two position commands.
+    """
     bus = TopicBus()
+    names = ["flange_gpios/digital_in_1", "flange_gpios/digital_in_2", "flange_gpios/digital_out_1",
+             "flange_gpios/digital_out_2", "joint1/acceleration", "joint1/effort", "joint1/position",
+             "joint1/velocity", "joint2/acceleration", "joint2/effort", "joint2/position", "joint2/velocity",
+             "tcp_fts_sensor/fx", "tcp_fts_sensor/fy", "tcp_fts_sensor/fz", "tcp_fts_sensor/tx", "tcp_fts_sensor/ty",
+             "tcp_fts_sensor/tz"]
+    states = [0.0] * len(names)
+    commands = {"joint1/position": 0.0, "joint2/position": 0.0, "flange_gpios/digital_out_1": 0.0,
+                "flange_gpios/digital_out_2": 0.0}
+    mirror = [(names.index(n), n) for n in commands]  # state index <- command name
+    forward = ["joint1/position", "joint2/position"]
     joints = ["joint1", "joint2"]
-    command = {j: 0.0 for j in joints}
-    state = {j: {"position": 0.0, "velocity": 0.0, "effort": 0.0} for j in joints}
+    fields = {"position": 2, "velocity": 3, "effort": 1}  # offsets of each joint's fields among its four values
+    groups = sorted({n.rsplit("/", 1)[0] for n in names})
     latest: list[Float64MultiArray | None] = [None]
     bus.create_subscription(Float64MultiArray, "/commands", lambda m: latest.__setitem__(0, m))
     bus.publish("/commands", Float64MultiArray(data=[0.7, 0.7]))
+    joint_pub = bus.create_publisher(JointState, "/joint_states")
+    dynamic_pub = bus.create_publisher(DynamicJointState, "/dynamic_joint_states")
     period = 0.01
-    t = 0.0
 
     def cycle(t: float) -> None:
         bus.deliver()
-        for j in joints:  # read: the mock mirrors commands
-            state[j]["position"] = command[j]
-        bus.publish("/joint_states", JointState(  # broadcast
-            header=Header(stamp=t), name=list(joints),
-            position=[state[j]["position"] for j in joints],
-            velocity=[state[j]["velocity"] for j in joints],
-            effort=[state[j]["effort"] for j in joints],
-        ))
+        for index, name in mirror:  # read: the mock mirrors commands
+            states[index] = commands[name]
+        values = list(states)  # the broadcaster reads every interface
+
+        def joint_state() -> JointState:
+            first = {j: 4 + 4 * k for k, j in enumerate(joints)}
+            return JointState(header=Header(stamp=t), name=list(joints),
+                              position=[values[first[j] + fields["position"]] for j in joints],
+                              velocity=[values[first[j] + fields["velocity"]] for j in joints],
+                              effort=[values[first[j] + fields["effort"]] for j in joints])
+
+        def dynamic_state() -> DynamicJointState:
+            out = DynamicJointState(header=Header(stamp=t), joint_names=list(groups))
+            for group in groups:
+                own = [(n.rsplit("/", 1)[1], values[i]) for i, n in enumerate(names) if n.startswith(group + "/")]
+                out.interface_values.append(InterfaceValue([n for n, _ in own], [v for _, v in own]))
+            return out
+
+        joint_pub.publish_lazy(joint_state)
+        dynamic_pub.publish_lazy(dynamic_state)
         msg = latest[0]  # forward
-        if msg is not None and len(msg.data) == len(joints):
-            for j, v in zip(joints, msg.data, strict=True):
-                command[j] = v
+        if msg is not None and len(msg.data) == len(forward):
+            for name, v in zip(forward, msg.data, strict=True):
+                commands[name] = v
         # write: nothing to send for the mock
 
     for k in range(10):
         cycle(k * period)
     start = time.perf_counter()
     for k in range(cycles):
-        t = (k + 1) * period
-        cycle(t)
+        cycle((k + 1) * period)
     elapsed = time.perf_counter() - start
     assert bus.latest("/joint_states").position == [0.7, 0.7]
     return cycles / elapsed

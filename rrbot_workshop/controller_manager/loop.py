@@ -40,22 +40,25 @@ def update_controllers(cm: ControllerManager, time: float, period: float) -> Non
         period: Manager period in [s].
     """
     failed: list[str] = []
-    controllers = cm.controllers
-    for name in cm.update_order():
+    controllers = cm._controllers  # noqa: SLF001 - the loop is the manager's own collaborator
+    cm_rate = cm.update_rate
+    active = State.ACTIVE
+    for name in cm._order:  # noqa: SLF001
         spec = controllers[name]
         ctrl = spec.controller
-        if ctrl._state is not State.ACTIVE:
+        if ctrl._state is not active:
             continue
-        rate = ctrl._update_rate or cm.update_rate
+        rate = ctrl._update_rate or cm_rate
         last = spec.last_update_time
-        if rate < cm.update_rate and not rate_due(last, time, rate, cm.update_rate):
-            continue
-        if rate >= cm.update_rate:
+        if rate >= cm_rate:
             ctrl_period = period
+        elif not rate_due(last, time, rate, cm_rate):
+            continue
         else:  # Jazzy: a slower controller's first update gets its own nominal period, 1/rate
             ctrl_period = 1.0 / rate if last is None else time - last
+        stats = spec.statistics
         if last is None:
-            spec.statistics.reset()
+            stats.reset()
         spec.last_update_time = time
         started = perf_counter()
         try:
@@ -65,9 +68,7 @@ def update_controllers(cm: ControllerManager, time: float, period: float) -> Non
                 raise
             _log.error("update of controller '%s' raised:\n%s", name, traceback.format_exc())
             result = ReturnType.ERROR
-        stats = spec.statistics
-        stats.execution_time.add((perf_counter() - started) * 1e6)
-        stats.period.add(ctrl_period)
+        stats.record((perf_counter() - started) * 1e6, ctrl_period)
         if result is not ReturnType.OK:
             if result is not ReturnType.ERROR:
                 _log.error("update of controller '%s' returned %r", name, result)

@@ -56,6 +56,25 @@ class ControllerStatistics:
     period: RunningStats = field(default_factory=RunningStats)
     execution_time: RunningStats = field(default_factory=RunningStats)
 
+    def record(self, execution_us: float, period: float) -> None:
+        """Account for one update: its execution time [µs] and the period it received [s] (inline: it runs in every
+        cycle for every controller)."""
+        e, p = self.execution_time, self.period
+        e.count += 1
+        e.total += execution_us
+        e.last = execution_us
+        if execution_us < e.minimum:
+            e.minimum = execution_us
+        if execution_us > e.maximum:
+            e.maximum = execution_us
+        p.count += 1
+        p.total += period
+        p.last = period
+        if period < p.minimum:
+            p.minimum = period
+        if period > p.maximum:
+            p.maximum = period
+
     def reset(self) -> None:
         """Start over (at activation)."""
         self.period = RunningStats()

@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import math
 import xml.etree.ElementTree as ET
+from collections.abc import Callable
 from typing import Any
 
 from rrbot_workshop.controller_interface.base import (
@@ -29,6 +30,7 @@ from rrbot_workshop.controller_interface.base import (
     InterfaceConfiguration,
     InterfaceConfigurationType,
 )
+from rrbot_workshop.hardware_interface.handles import value_reader
 from rrbot_workshop.middleware.lifecycle import CallbackReturn, ReturnType, State
 from rrbot_workshop.middleware.topics import Publisher
 from rrbot_workshop.msgs import DynamicJointState, Header, InterfaceValue, JointState
@@ -130,7 +132,7 @@ joint_state_broadcaster:
         self.joint_names: list[str] = []
         # per claimed state interface: (prefix, mapped name) the value goes to, or None if skipped
         self._targets: list[tuple[str, str] | None] = []
-        self._read: list[Any] = []  # the loans' get_value, in claim order (prepared at activation)
+        self._read_values: Callable[[], list[Any]] = list  # every loan's value, in claim order (set at activation)
         self._js_plan: list[list[int]] = []
         self._dynamic_plan: list[tuple[str, list[str], list[int] | None]] = []
 
@@ -233,7 +235,7 @@ joint_state_broadcaster:
                 extras.append(extra)
                 names.append(extra)
         self.joint_names = names
-        self._read = [loan.get_value for loan in self.state_interfaces]
+        self._read_values = value_reader(self.state_interfaces)
         # JointState: per field, for each joint, the index of its value (-1: NaN, -2: an extra joint's 0.0)
         self._js_plan = [
             [-2 if j in extras else where.get(j, {}).get(f, -1) for j in names] for f in _JOINT_STATE_FIELDS
@@ -247,7 +249,7 @@ joint_state_broadcaster:
         """Forget the layout; it is rebuilt on the next activation."""
         self.joint_names = []
         self._targets = []
-        self._read = []
+        self._read_values = list
         self._js_plan = []
         self._dynamic_plan = []
         return CallbackReturn.SUCCESS
@@ -258,7 +260,7 @@ joint_state_broadcaster:
         The messages are built when someone reads them (a subscriber, ``system.latest``, a recorder); the values are
         the ones read in this cycle.
         """
-        values = [read() for read in self._read]
+        values = self._read_values()
         if self._joint_state_pub is not None:
             names, plan, frame = self.joint_names, self._js_plan, self._frame_id  # this cycle's layout, kept with it
             self._joint_state_pub.publish_lazy(lambda: _joint_state(time, frame, names, plan, values))

@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
+from typing import Any
 
 from rrbot_workshop.description.info import ComponentInfo, HardwareInfo, InterfaceInfo
 from rrbot_workshop.hardware_interface.component_interface import SystemInterface
@@ -78,6 +79,8 @@ class GenericSystem(SystemInterface):
         self.disable_commands = False
         self._joint_modes: list[str] = []
         self._warned_disabled = False
+        #: What ``read`` does without ``calculate_dynamics``, prepared once: (kind, source, target, offset, gain).
+        self._plan: list[tuple[int, Any, Any, float, float]] | None = None
 
     # ----------------------------------------------------------------- lifecycle
     def on_init(self, info: HardwareInfo) -> CallbackReturn:
@@ -137,6 +140,7 @@ class GenericSystem(SystemInterface):
                 if itf.name == POSITION and not self.custom_interface_with_following_offset:
                     self.set_state(name, self.get_state(name) + self.position_state_following_offset)
         self._joint_modes = [POSITION] * len(self.info.joints)
+        self._plan = None
         return CallbackReturn.SUCCESS
 
     # ----------------------------------------------------------------- interfaces
@@ -298,19 +302,13 @@ class GenericSystem(SystemInterface):
                 self._warned_disabled = True
             return ReturnType.OK
 
+        if not self.calculate_dynamics:
+            return self._run_plan()  # positions follow their commands: prepared once, see _build_plan
         joints = self.info.joints
-        if self.calculate_dynamics:
-            for index in range(len(joints)):
-                self._integrate_joint(index, period)
-        else:
-            for joint in joints:
-                key = f"{joint.name}/{POSITION}"
-                if self._has_command(key) and self._has_state(key):
-                    cmd = self.get_command(key)
-                    if math.isfinite(cmd):
-                        self.set_state(key, cmd + self._position_offset())
+        for index in range(len(joints)):
+            self._integrate_joint(index, period)
 
-        skip = _MODES if self.calculate_dynamics else (POSITION,)
+        skip = _MODES
         custom = self.custom_interface_with_following_offset
         for joint in joints:
             for itf in joint.state_interfaces:
@@ -337,6 +335,78 @@ class GenericSystem(SystemInterface):
             return ReturnType.ERROR
         if not self._mirror_components(self.info.gpios, every_state=self.mock_gpio_commands):
             return ReturnType.ERROR
+        return ReturnType.OK
+
+    # ----------------------------------------------------------------- prepared read (no dynamics)
+    _FOLLOW, _MIRROR_FLOAT, _MIRROR_BOOL, _MIMIC = range(4)
+
+    def _build_plan(self) -> list[tuple[int, Any, Any, float, float]]:
+        """The steps of a read without ``calculate_dynamics``, in the order of the general path, with the handles
+        looked up once: the cycle then only moves numbers."""
+        plan: list[tuple[int, Any, Any, float, float]] = []
+        states, commands = self._state_handles, self._command_handles
+        joints = self.info.joints
+        offset = self._position_offset()
+
+        def mirror(name: str) -> None:
+            kind = states[name].data_type
+            if kind in _FLOAT_TYPES:
+                plan.append((self._MIRROR_FLOAT, commands[name], states[name], 0.0, 1.0))
+            elif kind == "bool":
+                plan.append((self._MIRROR_BOOL, commands[name], states[name], 0.0, 1.0))
+
+        for joint in joints:
+            key = f"{joint.name}/{POSITION}"
+            if key in commands and key in states:
+                plan.append((self._FOLLOW, commands[key], states[key], offset, 1.0))
+        custom = self.custom_interface_with_following_offset
+        for joint in joints:
+            for itf in joint.state_interfaces:
+                name = f"{joint.name}/{itf.name}"
+                if itf.name == POSITION or name not in states:
+                    continue
+                if name in commands:
+                    mirror(name)
+                position_cmd = f"{joint.name}/{POSITION}"
+                if custom and itf.name == custom and position_cmd in commands:
+                    plan.append((self._FOLLOW, commands[position_cmd], states[name],
+                                 self.position_state_following_offset, 1.0))
+        for mimic in self.info.mimic_joints:
+            follower, source = joints[mimic.joint_index].name, joints[mimic.mimicked_joint_index].name
+            for mode in _MODES:
+                dst, src = f"{follower}/{mode}", f"{source}/{mode}"
+                if dst in states and src in states:
+                    plan.append((self._MIMIC, states[src], states[dst], mimic.offset if mode == POSITION else 0.0,
+                                 mimic.multiplier))
+        groups = [(self.info.sensors, True)] if self.mock_sensor_commands else []
+        groups.append((self.info.gpios, self.mock_gpio_commands))
+        for components, every_state in groups:
+            for comp in components:
+                for itf in comp.state_interfaces if every_state else comp.command_interfaces:
+                    name = f"{comp.name}/{itf.name}"
+                    if name in commands and name in states:
+                        mirror(name)
+        return plan
+
+    def _run_plan(self) -> ReturnType:
+        plan = self._plan
+        if plan is None:
+            plan = self._plan = self._build_plan()
+        isfinite, isinf = math.isfinite, math.isinf
+        for kind, source, target, offset, gain in plan:
+            value = source.get_value()
+            if kind == 0:  # follow a command
+                if isfinite(value):
+                    target.set_value(value + offset)
+            elif kind == 1:  # mirror a float command; an infinite one is an error, NaN leaves the state
+                if isinf(value):
+                    return ReturnType.ERROR
+                if value == value:
+                    target.set_value(value)
+            elif kind == 2:
+                target.set_value(bool(value))
+            else:  # a mimic joint
+                target.set_value(offset + gain * value)
         return ReturnType.OK
 
     def _mirror_components(self, components: Sequence[ComponentInfo], every_state: bool) -> bool:

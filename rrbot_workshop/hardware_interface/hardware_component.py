@@ -32,6 +32,7 @@ from __future__ import annotations
 
 import builtins
 import logging
+import sys
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Any
@@ -48,6 +49,13 @@ _log = logging.getLogger(__name__)
 
 #: Marks "the implementation raised" (distinct from any value it could return).
 _RAISED = object()
+_READABLE = (State.INACTIVE, State.ACTIVE)
+
+
+def _reraise(exc: BaseException | None) -> Any:
+    """Raise ``exc`` again inside :meth:`HardwareComponent._call`, so it is logged with its traceback there."""
+    assert exc is not None
+    raise exc
 
 
 @dataclass
@@ -353,10 +361,16 @@ class HardwareComponent:
             time: Current time in [s].
             period: Time since the last read in [s].
         """
-        if self.get_lifecycle_state() not in (State.INACTIVE, State.ACTIVE):
+        if self._impl._lifecycle_state not in _READABLE:
             return ReturnType.OK
-        self._ensure_exported()
-        result = self._return_type("read", self._impl.read, time, period)
+        if self._exported is None:
+            self._ensure_exported()
+        try:  # the common case inline; exceptions and wrong results take the logged path of _checked
+            result = self._impl.read(time, period)
+        except Exception:  # noqa: BLE001 - learner code may raise anything (handle_exceptions)
+            result = self._return_type("read", _reraise, sys.exc_info()[1])
+        if result.__class__ is not ReturnType:
+            result = self._return_type("read", lambda: result)
         if result is ReturnType.ERROR:
             self.error()
         return result
@@ -371,10 +385,16 @@ class HardwareComponent:
             time: Current time in [s].
             period: Time since the last write in [s].
         """
-        if self.type == "sensor" or self.get_lifecycle_state() is not State.ACTIVE:
+        if self._impl._lifecycle_state is not State.ACTIVE or self.type == "sensor":
             return ReturnType.OK
-        self._ensure_exported()
-        result = self._return_type("write", self._impl.write, time, period)
+        if self._exported is None:
+            self._ensure_exported()
+        try:
+            result = self._impl.write(time, period)
+        except Exception:  # noqa: BLE001 - learner code may raise anything (handle_exceptions)
+            result = self._return_type("write", _reraise, sys.exc_info()[1])
+        if result.__class__ is not ReturnType:
+            result = self._return_type("write", lambda: result)
         if result is ReturnType.ERROR:
             self.error()
         return result

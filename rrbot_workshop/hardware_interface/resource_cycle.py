@@ -61,17 +61,22 @@ def read_or_write(
         set_component_state: The resource manager's state setter (DEACTIVATE from ``write``).
     """
     status = HardwareReadWriteStatus()
+    reading = which == "read"
     for entry in entries:
-        last = entry.last_read if which == "read" else entry.last_write
-        if not rate_due(last, time, entry.rw_rate, update_rate):
-            continue
-        own_period = period if last is None or entry.rw_rate >= update_rate else time - last
-        if which == "read":
+        if entry.rw_rate >= update_rate:  # the common case: every cycle, the manager's period
+            own_period = period
+        else:
+            last = entry.last_read if reading else entry.last_write
+            if not rate_due(last, time, entry.rw_rate, update_rate):
+                continue
+            own_period = period if last is None else time - last
+        if reading:
             entry.last_read = time
         else:
             entry.last_write = time
+        component = entry.component
         try:
-            result = getattr(entry.component, which)(time, own_period)
+            result = component.read(time, own_period) if reading else component.write(time, own_period)
         except Exception:  # noqa: BLE001 - handle_exceptions
             _log.error("%s of hardware '%s' raised:\n%s", which, entry.info.name, traceback.format_exc())
             result = ReturnType.ERROR
