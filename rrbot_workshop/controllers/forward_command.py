@@ -21,6 +21,7 @@ right size, before that update, replaces it). Messages with non-finite values ar
 from __future__ import annotations
 
 import math
+from collections.abc import Callable, Sequence
 from typing import ClassVar
 
 from rrbot_workshop.controller_interface.base import (
@@ -28,6 +29,7 @@ from rrbot_workshop.controller_interface.base import (
     InterfaceConfiguration,
     InterfaceConfigurationType,
 )
+from rrbot_workshop.hardware_interface.handles import value_writer
 from rrbot_workshop.middleware.lifecycle import CallbackReturn, ReturnType, State
 from rrbot_workshop.middleware.topics import Subscription
 from rrbot_workshop.msgs import Float64MultiArray
@@ -55,6 +57,8 @@ class ForwardControllersBase(ControllerInterface):
         self.command_interface_types: list[str] = []
         self.rejected_messages = 0
         self._command: list[float] = []
+        self._received = False  # a valid command arrived since activation
+        self._write: Callable[[Sequence[float]], None] = _write_nothing
         self._size_error: str | None = None  # set by a wrong-size message until the next update
         self._subscription: Subscription | None = None
 
@@ -108,17 +112,22 @@ class ForwardControllersBase(ControllerInterface):
             )
             return
         self._command = [float(v) for v in msg.data]
+        self._received = True
 
     def on_activate(self, previous_state: State) -> CallbackReturn:
         """Start from an empty (NaN) command: nothing is written until a message arrives."""
         self._command = [math.nan] * len(self.command_interface_types)
+        self._received = False
         self._size_error = None
+        self._write = value_writer(self.command_interfaces)  # the loans, in the order of the data array
         return CallbackReturn.SUCCESS
 
     def on_deactivate(self, previous_state: State) -> CallbackReturn:
         """Forget the last command."""
         self._command = [math.nan] * len(self.command_interface_types)
+        self._received = False
         self._size_error = None
+        self._write = _write_nothing
         return CallbackReturn.SUCCESS
 
     def update(self, time: float, period: float) -> ReturnType:
@@ -126,11 +135,13 @@ class ForwardControllersBase(ControllerInterface):
         if self._size_error is not None:
             self.logger.error("%s", self._size_error)
             return ReturnType.ERROR
-        if all(math.isnan(v) for v in self._command):
-            return ReturnType.OK
-        for loan, value in zip(self.command_interfaces, self._command, strict=False):
-            loan.set_value(value)
+        if self._received:  # nothing is written before the first valid command
+            self._write(self._command)
         return ReturnType.OK
+
+
+def _write_nothing(values: object) -> None:
+    """The writer of an inactive controller."""
 
 
 def _is_finite(value: object) -> bool:

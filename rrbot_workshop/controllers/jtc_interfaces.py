@@ -13,7 +13,12 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 
-from rrbot_workshop.hardware_interface.handles import LoanedCommandInterface, LoanedStateInterface
+from rrbot_workshop.hardware_interface.handles import (
+    LoanedCommandInterface,
+    LoanedStateInterface,
+    value_reader,
+    value_writer,
+)
 from rrbot_workshop.msgs import JointTrajectoryPoint
 
 __all__ = ["JointInterfaces"]
@@ -51,12 +56,20 @@ class JointInterfaces:
         self._states = {k: [by_name_s[f"{j}/{k}"] for j in joints] for k in state_kinds}
         self._cmd_to_joint = list(cmd_to_joint)
         self._dof = len(joints)
+        # prepared once: read or write every interface of a kind in one call
+        self._identity = self._cmd_to_joint == list(range(self._dof))
+        self._read_state = {k: value_reader(v) for k, v in self._states.items()}
+        self._read_command = {k: value_reader(v) for k, v in self._commands.items()}
+        self._write_command = {k: value_writer(v) for k, v in self._commands.items()}
 
     def command_values(self, kind: str, fill: float) -> list[float]:
         """Per joint, the value of its ``kind`` command interface, ``fill`` for joints without one."""
+        read = self._read_command[kind]()
+        if self._identity:
+            return read
         values = [fill] * self._dof
-        for i, loan in enumerate(self._commands[kind]):
-            values[self._cmd_to_joint[i]] = loan.get_value()
+        for i, value in enumerate(read):
+            values[self._cmd_to_joint[i]] = value
         return values
 
     def read_state(self) -> JointTrajectoryPoint:
@@ -65,11 +78,12 @@ class JointInterfaces:
         Accelerations are read only together with velocities; the effort is the effort command (NaN for
         joints without one), as the state interfaces carry no effort.
         """
-        point = JointTrajectoryPoint(positions=[h.get_value() for h in self._states["position"]])
-        if "velocity" in self._states:
-            point.velocities = [h.get_value() for h in self._states["velocity"]]
-            if "acceleration" in self._states:
-                point.accelerations = [h.get_value() for h in self._states["acceleration"]]
+        read = self._read_state
+        point = JointTrajectoryPoint(positions=read["position"]())
+        if "velocity" in read:
+            point.velocities = read["velocity"]()
+            if "acceleration" in read:
+                point.accelerations = read["acceleration"]()
         if "effort" in self._commands:
             point.effort = self.command_values("effort", math.nan)
         return point
@@ -122,8 +136,7 @@ class JointInterfaces:
         """Write per-joint ``values`` to the ``kind`` command interfaces; nothing if fewer values than joints."""
         if len(values) < self._dof:
             return  # e.g. interpolation 'none' and a waypoint without that field
-        for i, loan in enumerate(self._commands[kind]):
-            loan.set_value(values[self._cmd_to_joint[i]])
+        self._write_command[kind](values if self._identity else [values[j] for j in self._cmd_to_joint])
 
     def stop_motion(self) -> None:
         """Set every velocity, acceleration and effort command to 0 (positions keep their last value)."""

@@ -393,20 +393,21 @@ class GenericSystem(SystemInterface):
         if plan is None:
             plan = self._plan = self._build_plan()
         isfinite, isinf = math.isfinite, math.isinf
+        # the handles are the component's own: their values are read and written directly
         for kind, source, target, offset, gain in plan:
-            value = source.get_value()
+            value = source._value
             if kind == 0:  # follow a command
                 if isfinite(value):
-                    target.set_value(value + offset)
+                    target._value = value + offset
             elif kind == 1:  # mirror a float command; an infinite one is an error, NaN leaves the state
                 if isinf(value):
                     return ReturnType.ERROR
                 if value == value:
-                    target.set_value(value)
+                    target._value = value
             elif kind == 2:
-                target.set_value(bool(value))
+                target._value = bool(value)
             else:  # a mimic joint
-                target.set_value(offset + gain * value)
+                target._value = offset + gain * value
         return ReturnType.OK
 
     def _mirror_components(self, components: Sequence[ComponentInfo], every_state: bool) -> bool:

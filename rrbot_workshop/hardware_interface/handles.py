@@ -24,6 +24,7 @@ __all__ = [
     "LoanedCommandInterface",
     "parse_value",
     "value_reader",
+    "value_writer",
 ]
 
 #: Data types ros2_control handles accept, mapped to the Python type used to hold them.
@@ -244,3 +245,14 @@ def value_reader(loans: Sequence[_Loaned]) -> Callable[[], list[Any]]:
     handles = [loan._handle for loan in loans]
     get = operator.attrgetter("_value")
     return lambda: list(map(get, handles))
+
+
+def value_writer(loans: Sequence[LoanedCommandInterface]) -> Callable[[Sequence[Any]], None]:
+    """A function that writes one value to each of ``loans``, in order, in one call (see :func:`value_reader`)."""
+    handles = [loan._handle for loan in loans]
+
+    def write(values: Sequence[Any]) -> None:
+        for handle, value in zip(handles, values, strict=False):  # extra values are ignored, as before
+            handle._value = value
+
+    return write
