@@ -6,8 +6,11 @@ from rrbot_workshop.controller_interface.base import (
     InterfaceConfiguration,
     InterfaceConfigurationType,
 )
+from rrbot_workshop.middleware.lifecycle import CallbackReturn, ReturnType
 
 __all__ = [
+    "CallbackReturn",
+    "ReturnType",
     "ControllerInterface",
     "ChainableControllerInterface",
     "InterfaceConfiguration",

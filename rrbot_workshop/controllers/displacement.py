@@ -3,10 +3,9 @@
 Reference solution of the ROSCon 2022 workshop's ``controlko_controllers/DisplacementController``, with
 the original's bugs fixed:
 
-* displacements are matched to joints **by name** (the original assumed the message's order and
-  rejected any message that did not name every joint); unknown or repeated names reject the message,
-  with the reason logged;
-* a joint the message does not name keeps its command;
+* displacements are matched to joints **by name** (the original assumed the message's order); as in the
+  original, a message must carry one displacement per joint of the controller; unknown or repeated names
+  reject the message, with the reason logged;
 * the tests of the original expected ``command == displacement``; the behaviour kept here is the one
   its code implemented and its README described: ``command = current state + displacement``.
 
@@ -53,7 +52,9 @@ def forbidden_interface_name_prefix(value: str, prefix: str = "blup_") -> str | 
     return None
 
 
-register_validator("forbidden_interface_name_prefix", forbidden_interface_name_prefix)
+# Registered under the library's own name: a learner's task-8 file registers its version as
+# displacement_controller::forbidden_interface_name_prefix, and neither replaces the other.
+register_validator("rrbot_workshop::forbidden_interface_name_prefix", forbidden_interface_name_prefix)
 
 
 class DisplacementController(ControllerInterface):
@@ -88,7 +89,7 @@ displacement_controller:
     read_only: true
     validation:
       not_empty<>: []
-      displacement_controller::forbidden_interface_name_prefix: ["blup_"]
+      rrbot_workshop::forbidden_interface_name_prefix: ["blup_"]
       one_of<>: [["position", "velocity", "acceleration", "effort"]]
 """
 
@@ -163,6 +164,10 @@ displacement_controller:
         if len(values) != len(names):
             self._reject(f"field 'displacements' has {len(values)} values but field 'joint_names' has "
                          f"{len(names)} names; they must match")
+            return
+        if len(names) != len(self._joints):
+            self._reject(f"it names {len(names)} joint(s) {names}, the controller has {len(self._joints)}: give one "
+                         f"displacement for each of {self._joints} (0.0 for a joint that should stay)")
             return
         unknown = [n for n in names if n not in self._joints]
         if unknown:

@@ -242,6 +242,15 @@ TRACK_PLUGINS: tuple[TrackPlugin, ...] = (
         class_name="DisplacementController",
         reference="rrbot_workshop.controllers.displacement:DisplacementController",
     ),
+    # the original's master branch exports the same class as displacement_controller/DisplacementController
+    TrackPlugin(
+        kind="controller",
+        type_name="displacement_controller/DisplacementController",
+        task=8,
+        file_name="displacement_controller.py",
+        class_name="DisplacementController",
+        reference="rrbot_workshop.controllers.displacement:DisplacementController",
+    ),
 )
 
 

@@ -52,6 +52,8 @@ _BUILTIN: dict[str, dict[str, str]] = {
             "rrbot_workshop.controllers.displacement:DisplacementController",
         "controlko_controllers/DisplacementController":
             "rrbot_workshop.controllers.displacement:DisplacementController",
+        # the library's reference under its own name, never re-mapped to a learner's file (notebook 08's fallback)
+        "rrbot_workshop/DisplacementController": "rrbot_workshop.controllers.displacement:DisplacementController",
     },
 }
 

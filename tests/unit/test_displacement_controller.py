@@ -62,11 +62,14 @@ def test_displacements_matched_by_name_not_order():
     assert _cmds(h) == pytest.approx([21.1, 12.2])
 
 
-def test_subset_of_joints_moves_only_named_joints():
+def test_a_message_for_fewer_joints_is_rejected_and_the_commands_stay(caplog):
+    """As the original: one displacement per joint of the controller, or the message is refused (reason logged)."""
     h = _active(commands={"joint1/position": 5.0, "joint2/position": 6.0})
-    h.publish("~/reference", JointJog(joint_names=["joint2"], displacements=[1.0]))
-    h.update()
-    assert _cmds(h) == pytest.approx([5.0, 3.2])
+    with caplog.at_level("ERROR"):
+        h.publish("~/reference", JointJog(joint_names=["joint2"], displacements=[1.0]))
+        h.update()
+    assert _cmds(h) == pytest.approx([5.0, 6.0])
+    assert "names 1 joint(s) ['joint2'], the controller has 2" in caplog.text
 
 
 def test_unknown_joint_rejected_with_reason(caplog):
@@ -97,7 +100,7 @@ def test_repeated_joint_rejected(caplog):
 def test_infinite_displacement_rejected(caplog):
     h = _active()
     with caplog.at_level(logging.ERROR):
-        h.publish("~/reference", JointJog(joint_names=["joint1"], displacements=[math.inf]))
+        h.publish("~/reference", JointJog(joint_names=["joint1", "joint2"], displacements=[math.inf, 0.0]))
     h.update()
     assert h.value("joint1/position") == 0.0
     assert "infinite" in caplog.text
@@ -133,14 +136,14 @@ def test_fast_mode_after_slow_mode_uses_full_displacement():
     h.bus.call_service(f"/{NAME}/set_slow_control_mode", SetBoolRequest(data=True))
     h.bus.call_service(f"/{NAME}/set_slow_control_mode", SetBoolRequest(data=False))
     assert not h.controller.slow_mode
-    h.publish("~/reference", JointJog(joint_names=["joint1"], displacements=[23.24]))
+    h.publish("~/reference", JointJog(joint_names=["joint1", "joint2"], displacements=[23.24, 0.0]))
     h.update()
     assert h.value("joint1/position") == pytest.approx(24.34)
 
 
 def test_state_topic_reports_first_joint():
     h = _active()
-    h.publish("~/reference", JointJog(joint_names=["joint1"], displacements=[0.4]))
+    h.publish("~/reference", JointJog(joint_names=["joint1", "joint2"], displacements=[0.4, 0.0]))
     h.update()
     msg = h.latest("~/state")
     assert isinstance(msg, JointControllerState)
