@@ -26,6 +26,8 @@ _BUILTIN: dict[str, dict[str, str]] = {
     "hardware": {
         "mock_components/GenericSystem": "rrbot_workshop.hardware.mock:GenericSystem",
         "rrbot_workshop/MujocoSystem": "rrbot_workshop.hardware.mujoco_system:MujocoSystem",
+        # the library's task-7 driver under its own name, never re-mapped to a learner's file (notebook 07's fallback)
+        "rrbot_workshop/RRBotHardwareInterface": "rrbot_workshop.hardware.rrbot:RRBotHardwareInterface",
     },
     "controller": {
         "joint_state_broadcaster/JointStateBroadcaster":
