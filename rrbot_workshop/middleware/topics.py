@@ -297,8 +297,10 @@ class TopicBus:
             self._history.pop(topic, None)
 
     def topic_names_and_types(self) -> list[tuple[str, str]]:
-        """Known topics with their ROS message type names, sorted (``ros2 topic list -t``)."""
-        topics = set(self._types) | set(self._latest) | {t for t, s in self._subs.items() if s}
+        """Topics with a publisher, a subscription or a message, with their ROS type names, sorted (``ros2 topic list
+        -t``); the topics of an unloaded controller are gone."""
+        endpoints = {t for t, s in self._subs.items() if s} | {t for t, p in self._publishers.items() if p}
+        topics = endpoints | set(self._latest)
 
         def type_name(topic: str) -> str:
             if topic in self._types:
