@@ -26,6 +26,8 @@ __all__ = [
     "architecture",
     "lifecycle_states",
     "SvgDiagram",
+    "ControllerManagerPanel",
+    "TrajectoryPanel",
 ]
 
 _EXPORTS = {
@@ -38,6 +40,8 @@ _EXPORTS = {
     "architecture": "diagrams",
     "lifecycle_states": "diagrams",
     "SvgDiagram": "svg",
+    "ControllerManagerPanel": "panels",
+    "TrajectoryPanel": "panels",
 }
 
 
