@@ -9,13 +9,9 @@ from the last one sent.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
-
+from rrbot_workshop.controller_manager.context import ManagerContext
 from rrbot_workshop.middleware.lifecycle import State
 from rrbot_workshop.msgs import ControllerManagerActivity, Header, LifecycleState, NamedLifecycleState
-
-if TYPE_CHECKING:
-    from rrbot_workshop.controller_manager.manager import ControllerManager
 
 __all__ = ["ACTIVITY_TOPIC", "ActivityReporter"]
 
@@ -36,7 +32,7 @@ class ActivityReporter:
         cm: The controller manager whose controllers and hardware components are reported.
     """
 
-    def __init__(self, cm: ControllerManager) -> None:
+    def __init__(self, cm: ManagerContext) -> None:
         self._cm = cm
         self._pub = cm.bus.create_publisher(ControllerManagerActivity, ACTIVITY_TOPIC, owner="controller_manager")
         self._last: _Snapshot | None = None

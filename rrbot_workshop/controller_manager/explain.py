@@ -18,13 +18,10 @@ import difflib
 import re
 from collections.abc import Iterable
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
 
+from rrbot_workshop.controller_manager.context import ManagerContext
 from rrbot_workshop.controller_manager.switch import SwitchRequest, normalize_strictness
 from rrbot_workshop.exceptions import ControllerError, RRBotWorkshopError, SwitchError
-
-if TYPE_CHECKING:
-    from rrbot_workshop.controller_manager.manager import ControllerManager
 
 __all__ = ["Evidence", "Outcome", "SwitchExplanation", "explain_switch"]
 
@@ -132,7 +129,7 @@ def _closest(name: str, names: Iterable[str]) -> list[str]:
 
 
 def _outcome(
-    cm: ControllerManager, activate: list[str], deactivate: list[str], strictness: str, hardware: list[str]
+    cm: ManagerContext, activate: list[str], deactivate: list[str], strictness: str, hardware: list[str]
 ) -> tuple[Outcome, list[str], list[str]]:
     """Plan the request; returns the outcome and the controllers and interfaces its reasons involve."""
     request = SwitchRequest(cm, activate, deactivate, strictness)
@@ -149,7 +146,7 @@ def _outcome(
     return Outcome(strictness, True, list(request.activate), list(request.deactivate), list(request.skipped)), [], []
 
 
-def _evidence(cm: ControllerManager, asked: list[str], controllers: list[str], interfaces: list[str]) -> list[Evidence]:
+def _evidence(cm: ManagerContext, asked: list[str], controllers: list[str], interfaces: list[str]) -> list[Evidence]:
     rm = cm.resource_manager
     facts: list[Evidence] = []
     for name in dict.fromkeys([*asked, *controllers]):
@@ -186,7 +183,7 @@ def _evidence(cm: ControllerManager, asked: list[str], controllers: list[str], i
 
 
 def explain_switch(
-    cm: ControllerManager,
+    cm: ManagerContext,
     activate: Iterable[str] = (),
     deactivate: Iterable[str] = (),
     strictness: str | int | None = None,

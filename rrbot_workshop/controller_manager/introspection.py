@@ -8,8 +8,8 @@ controllers and its resource manager and build the ``controller_manager_msgs``-s
 from __future__ import annotations
 
 import logging
-from typing import TYPE_CHECKING
 
+from rrbot_workshop.controller_manager.context import ManagerContext
 from rrbot_workshop.controller_manager.spec import (
     ChainConnection,
     ControllerState,
@@ -19,9 +19,6 @@ from rrbot_workshop.controller_manager.spec import (
 )
 from rrbot_workshop.middleware import plugins
 from rrbot_workshop.middleware.lifecycle import State
-
-if TYPE_CHECKING:
-    from rrbot_workshop.controller_manager.manager import ControllerManager
 
 __all__ = [
     "list_controllers",
@@ -38,7 +35,7 @@ def _strip(prefix: str, names: list[str]) -> list[str]:
     return [n[len(prefix) + 1:] if n.startswith(prefix + "/") else n for n in names]
 
 
-def list_controllers(cm: ControllerManager) -> list[ControllerState]:
+def list_controllers(cm: ManagerContext) -> list[ControllerState]:
     """One :class:`ControllerState` per loaded controller, in update order (preceding controllers first)."""
     rm = cm.resource_manager
     out = []
@@ -72,7 +69,7 @@ def list_controllers(cm: ControllerManager) -> list[ControllerState]:
     return out
 
 
-def list_hardware_components(cm: ControllerManager) -> list[HardwareComponentState]:
+def list_hardware_components(cm: ManagerContext) -> list[HardwareComponentState]:
     """One :class:`HardwareComponentState` per hardware component, in load order."""
     rm = cm.resource_manager
     out = []
@@ -100,7 +97,7 @@ def list_hardware_components(cm: ControllerManager) -> list[HardwareComponentSta
     return out
 
 
-def list_hardware_interfaces(cm: ControllerManager) -> HardwareInterfaces:
+def list_hardware_interfaces(cm: ManagerContext) -> HardwareInterfaces:
     """Every command interface (hardware and controller references) and state interface, sorted by name."""
     rm = cm.resource_manager
     return HardwareInterfaces(
@@ -156,7 +153,7 @@ def _record(title: str, inputs: list[tuple[str, str]], outputs: list[tuple[str, 
     return esc(title) + ("|{" + "|".join(cols) + "}" if cols else "")
 
 
-def view_controller_chains(cm: ControllerManager) -> str:
+def view_controller_chains(cm: ManagerContext) -> str:
     """Graphviz DOT text of controllers, their chain connections and the hardware interfaces they use.
 
     Every configured controller is a record node with its inputs (state and reference interfaces) on

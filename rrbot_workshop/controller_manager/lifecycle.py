@@ -11,16 +11,14 @@ The controller manager keeps the registry and the update order around these step
 from __future__ import annotations
 
 import logging
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
+from rrbot_workshop.controller_manager.context import ManagerContext
 from rrbot_workshop.controller_manager.spec import ControllerSpec
 from rrbot_workshop.exceptions import ControllerError, ControllerNotFound, LifecycleError, PluginNotFound
+from rrbot_workshop.hardware_interface.resource_manager import ResourceManager
 from rrbot_workshop.middleware import plugins
 from rrbot_workshop.middleware.lifecycle import CallbackReturn, State
-
-if TYPE_CHECKING:
-    from rrbot_workshop.controller_manager.manager import ControllerManager
-    from rrbot_workshop.hardware_interface.resource_manager import ResourceManager
 
 __all__ = ["create", "configure", "cleanup", "shutdown", "set_state"]
 
@@ -28,7 +26,7 @@ __all__ = ["create", "configure", "cleanup", "shutdown", "set_state"]
 _log = logging.getLogger("rrbot_workshop.controller_manager.manager")
 
 
-def create(cm: ControllerManager, name: str, type_name: str | None) -> ControllerSpec:
+def create(cm: ManagerContext, name: str, type_name: str | None) -> ControllerSpec:
     """Instantiate controller ``name`` for ``cm`` and run its ``on_init`` (it is not registered here).
 
     Args:
@@ -154,7 +152,7 @@ def shutdown(spec: ControllerSpec) -> None:
     spec.controller.get_node().destroy()
 
 
-def set_state(cm: ControllerManager, spec: ControllerSpec, state: str | State) -> None:
+def set_state(cm: ManagerContext, spec: ControllerSpec, state: str | State) -> None:
     """Bring a loaded controller of ``cm`` to ``"unconfigured"``, ``"inactive"`` or ``"active"``.
 
     Activation and deactivation are strict switches of ``cm``; configure and cleanup go through its

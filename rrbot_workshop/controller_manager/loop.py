@@ -15,15 +15,12 @@ from __future__ import annotations
 import logging
 import traceback
 from time import perf_counter
-from typing import TYPE_CHECKING
 
 from rrbot_workshop.controller_manager.claims import deactivate_controller
+from rrbot_workshop.controller_manager.context import ManagerContext
 from rrbot_workshop.exceptions import ControllerError, SwitchError
 from rrbot_workshop.middleware.clock import rate_due
 from rrbot_workshop.middleware.lifecycle import ReturnType, State
-
-if TYPE_CHECKING:
-    from rrbot_workshop.controller_manager.manager import ControllerManager
 
 __all__ = ["update_controllers", "controllers_failed", "hardware_failed"]
 
@@ -31,7 +28,7 @@ __all__ = ["update_controllers", "controllers_failed", "hardware_failed"]
 _log = logging.getLogger("rrbot_workshop.controller_manager.manager")
 
 
-def update_controllers(cm: ControllerManager, time: float, period: float) -> None:
+def update_controllers(cm: ManagerContext, time: float, period: float) -> None:
     """Update each active controller of ``cm`` that is due, in chain order, then handle failures.
 
     Args:
@@ -77,7 +74,7 @@ def update_controllers(cm: ControllerManager, time: float, period: float) -> Non
         controllers_failed(cm, failed)
 
 
-def controllers_failed(cm: ControllerManager, failed: list[str]) -> None:
+def controllers_failed(cm: ManagerContext, failed: list[str]) -> None:
     """Deactivate ``failed`` controllers with their chain group, then activate their fallbacks (strict)."""
     group = cm.chain_group(failed)
     _log.error("controller(s) %s failed in update; deactivating %s", failed, group)
@@ -94,7 +91,7 @@ def controllers_failed(cm: ControllerManager, failed: list[str]) -> None:
     cm.activity.check()
 
 
-def hardware_failed(cm: ControllerManager, hardware: list[str], where: str, commanders_only: bool = False) -> None:
+def hardware_failed(cm: ManagerContext, hardware: list[str], where: str, commanders_only: bool = False) -> None:
     """Deactivate the active controllers holding interfaces of failed ``hardware``, with their chain groups.
 
     Args:

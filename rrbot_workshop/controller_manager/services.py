@@ -10,12 +10,10 @@ from __future__ import annotations
 
 from collections.abc import Callable, Mapping
 from types import SimpleNamespace
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
+from rrbot_workshop.controller_manager.context import ManagerContext
 from rrbot_workshop.exceptions import HardwareError
-
-if TYPE_CHECKING:
-    from rrbot_workshop.controller_manager.manager import ControllerManager
 
 __all__ = ["register_services", "SERVICE_NAMES"]
 
@@ -40,7 +38,7 @@ def _ok_call(fn: Callable[[], Any]) -> SimpleNamespace:
         return SimpleNamespace(ok=False, message=str(exc))
 
 
-def _set_hw(cm: ControllerManager, name: str, target: Any) -> SimpleNamespace:
+def _set_hw(cm: ManagerContext, name: str, target: Any) -> SimpleNamespace:
     label = getattr(target, "label", target)
     try:
         ok = cm.set_hardware_component_state(name, label)
@@ -49,7 +47,7 @@ def _set_hw(cm: ControllerManager, name: str, target: Any) -> SimpleNamespace:
     return SimpleNamespace(ok=ok, state=cm.resource_manager.get_component(name).get_lifecycle_state(), message="")
 
 
-def register_services(cm: ControllerManager) -> None:
+def register_services(cm: ManagerContext) -> None:
     """Create the ``/controller_manager/...`` services of ``cm`` on its bus."""
     f = _field
     services: dict[str, Callable[[Any], Any]] = {

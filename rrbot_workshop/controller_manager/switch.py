@@ -29,16 +29,14 @@ from __future__ import annotations
 
 import logging
 from collections.abc import Iterable
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
+from rrbot_workshop.controller_manager.context import ManagerContext
 from rrbot_workshop.controller_manager.spec import SwitchResult
 from rrbot_workshop.controller_manager.switch_chaining import check_activation, check_deactivation, followers
 from rrbot_workshop.controller_manager.switch_execution import execute
 from rrbot_workshop.exceptions import ControllerError, SwitchError
 from rrbot_workshop.middleware.lifecycle import State
-
-if TYPE_CHECKING:
-    from rrbot_workshop.controller_manager.manager import ControllerManager
 
 __all__ = ["STRICTNESS", "SwitchRequest", "normalize_strictness", "switch_controllers"]
 
@@ -78,7 +76,7 @@ def _dedupe(names: Iterable[str]) -> list[str]:
 class SwitchRequest:
     """One switch request: what is asked, what planning dropped, and which followers change chained mode."""
 
-    def __init__(self, cm: ControllerManager, activate: list[str], deactivate: list[str], strictness: str) -> None:
+    def __init__(self, cm: ManagerContext, activate: list[str], deactivate: list[str], strictness: str) -> None:
         self.cm = cm
         self.rm = cm.resource_manager
         self.strict = strictness == "strict"
@@ -265,7 +263,7 @@ class SwitchRequest:
 
 
 def switch_controllers(
-    cm: ControllerManager, activate: Iterable[str], deactivate: Iterable[str], strictness: str | int
+    cm: ManagerContext, activate: Iterable[str], deactivate: Iterable[str], strictness: str | int
 ) -> SwitchResult:
     """Plan and run one switch on ``cm`` (see the module docstring).
 

@@ -10,18 +10,15 @@ The functions here read a :class:`~rrbot_workshop.controller_manager.manager.Con
 from __future__ import annotations
 
 from collections.abc import Iterable
-from typing import TYPE_CHECKING
 
 from rrbot_workshop.controller_interface.base import InterfaceConfigurationType
+from rrbot_workshop.controller_manager.context import ManagerContext
 from rrbot_workshop.middleware.lifecycle import State
-
-if TYPE_CHECKING:
-    from rrbot_workshop.controller_manager.manager import ControllerManager
 
 __all__ = ["followers", "preceding", "dependency_order", "check_activation", "check_deactivation"]
 
 
-def _names_for_chaining(cm: ControllerManager, spec: object, kind: str) -> list[str]:
+def _names_for_chaining(cm: ManagerContext, spec: object, kind: str) -> list[str]:
     """The interfaces a controller *names*: chain links come from these only.
 
     As in Jazzy (``get_following_controller_names`` reads ``interface_configuration().names``), a controller
@@ -38,7 +35,7 @@ def _names_for_chaining(cm: ControllerManager, spec: object, kind: str) -> list[
     return cm.command_interface_names(spec) if kind == "command" else cm.state_interface_names(spec)  # type: ignore[arg-type]
 
 
-def followers(cm: ControllerManager, name: str) -> list[tuple[str, str, str]]:
+def followers(cm: ManagerContext, name: str) -> list[tuple[str, str, str]]:
     """``(follower, interface, "reference"|"state")`` for each exported interface controller ``name`` uses."""
     rm = cm.resource_manager
     spec = cm.controllers[name]
@@ -54,7 +51,7 @@ def followers(cm: ControllerManager, name: str) -> list[tuple[str, str, str]]:
     return out
 
 
-def preceding(cm: ControllerManager, name: str) -> list[tuple[str, str]]:
+def preceding(cm: ManagerContext, name: str) -> list[tuple[str, str]]:
     """``(controller, interface)`` for each configured controller that uses an interface ``name`` exports."""
     rm = cm.resource_manager
     refs = set(rm.get_controller_reference_interface_names(name))
@@ -72,7 +69,7 @@ def preceding(cm: ControllerManager, name: str) -> list[tuple[str, str]]:
     return out
 
 
-def dependency_order(cm: ControllerManager, names: Iterable[str]) -> list[str]:
+def dependency_order(cm: ManagerContext, names: Iterable[str]) -> list[str]:
     """``names`` ordered so that a controller comes after every controller whose interfaces it uses
     (references or exported states); ties keep the update order."""
     order = cm.update_order()
@@ -87,7 +84,7 @@ def dependency_order(cm: ControllerManager, names: Iterable[str]) -> list[str]:
 
 
 def check_activation(
-    cm: ControllerManager, name: str, activate: list[str], deactivate: list[str]
+    cm: ManagerContext, name: str, activate: list[str], deactivate: list[str]
 ) -> tuple[list[str], set[str]]:
     """Step 3 for one controller of ``activate``.
 
@@ -113,7 +110,7 @@ def check_activation(
 
 
 def _check_followers(
-    cm: ControllerManager,
+    cm: ManagerContext,
     name: str,
     activate: list[str],
     deactivate: list[str],
@@ -142,7 +139,7 @@ def _check_followers(
             _check_followers(cm, follower, activate, deactivate, reasons, chained, visited)
 
 
-def check_deactivation(cm: ControllerManager, name: str, activate: list[str], deactivate: list[str]) -> list[str]:
+def check_deactivation(cm: ManagerContext, name: str, activate: list[str], deactivate: list[str]) -> list[str]:
     """Step 4 for one controller of ``deactivate``: why it cannot be deactivated (empty if it can)."""
     state = cm.controllers[name].state
     if state is not State.ACTIVE:

@@ -10,16 +10,30 @@ did is undone.
 from __future__ import annotations
 
 import logging
-from typing import TYPE_CHECKING
+from typing import Protocol
 
 from rrbot_workshop.controller_manager.claims import activate_controller, deactivate_controller
+from rrbot_workshop.controller_manager.context import ManagerContext
 from rrbot_workshop.controller_manager.spec import SwitchResult
 from rrbot_workshop.controller_manager.switch_chaining import dependency_order
 from rrbot_workshop.exceptions import SwitchError
+from rrbot_workshop.hardware_interface.resource_manager import ResourceManager
 from rrbot_workshop.middleware.lifecycle import State
 
-if TYPE_CHECKING:
-    from rrbot_workshop.controller_manager.switch import SwitchRequest
+
+class SwitchRequest(Protocol):
+    """A planned switch, as :class:`rrbot_workshop.controller_manager.switch.SwitchRequest` hands it over."""
+
+    cm: ManagerContext
+    rm: ResourceManager
+    strict: bool
+    activate: list[str]
+    deactivate: list[str]
+    skipped: list[str]
+    from_chained: set[str]
+    must_chain: set[str]
+
+    def hardware_lists(self) -> tuple[list[str], list[str]]: ...
 
 __all__ = ["execute", "rollback"]
 
