@@ -19,6 +19,7 @@ from __future__ import annotations
 import itertools
 import logging
 import sys
+import traceback
 import types
 from collections.abc import Iterable, Mapping
 from pathlib import Path
@@ -96,6 +97,8 @@ class System:
         self.bus: TopicBus = controller_manager.bus
         self.clock = clock
         self._running = True
+        self._background: Any = None
+        self._spin_listeners: list[Any] = []
 
     # ----------------------------------------------------------------- time
     @property
@@ -130,7 +133,51 @@ class System:
         period = self.clock.period
         for _ in range(int(n)):
             cm.update(self.clock.tick(), period)
+        for listener in list(self._spin_listeners):
+            try:
+                listener(self)
+            except Exception:  # noqa: BLE001 - a panel's redraw must not stop the robot
+                _log.error("spin listener %r raised:\n%s", listener, traceback.format_exc())
         return self.clock.now()
+
+    def add_spin_listener(self, fn: Any) -> Any:
+        """Call ``fn(system)`` after every :meth:`spin_cycles` (each ``spin``, each batch of a background loop):
+        panels redraw there, not in every cycle. Returns a remover."""
+        self._spin_listeners.append(fn)
+
+        def remove() -> None:
+            if fn in self._spin_listeners:
+                self._spin_listeners.remove(fn)
+
+        return remove
+
+    def spin_in_background(self, real_time_factor: float = 1.0, tick: float = 0.02) -> Any:
+        """Keep the control loop running between cells, ``real_time_factor`` simulated seconds per wall second
+        (see :mod:`rrbot_workshop.background`); a running background loop is replaced.
+
+        Returns:
+            The :class:`~rrbot_workshop.background.BackgroundSpinner` (``.stop()``, ``.running``, ``.error``).
+
+        Raises:
+            HardwareError: If the system is shut down, runs on a wall clock, or no event loop runs.
+        """
+        from rrbot_workshop.background import BackgroundSpinner
+
+        self._check_running()
+        self.stop_background()
+        self._background = BackgroundSpinner(self, real_time_factor, tick)
+        return self._background
+
+    @property
+    def background(self) -> Any:
+        """The background loop started by :meth:`spin_in_background` while it spins, else None."""
+        return self._background if self._background is not None and self._background.running else None
+
+    def stop_background(self) -> None:
+        """Stop the background loop, if one spins."""
+        if self._background is not None:
+            self._background.stop()
+            self._background = None
 
     def spin(self, seconds: float) -> float:
         """Run for ``seconds`` [s] of (simulated) time, rounded to whole cycles; returns the time in [s]."""
@@ -239,6 +286,7 @@ class System:
         if not self._running:
             return
         self._running = False
+        self.stop_background()
         try:
             self.controller_manager.shutdown()
         finally:
