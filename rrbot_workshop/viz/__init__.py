@@ -28,6 +28,7 @@ __all__ = [
     "SvgDiagram",
     "ControllerManagerPanel",
     "TrajectoryPanel",
+    "PlotPanel",
 ]
 
 _EXPORTS = {
@@ -42,6 +43,7 @@ _EXPORTS = {
     "SvgDiagram": "svg",
     "ControllerManagerPanel": "panels",
     "TrajectoryPanel": "panels",
+    "PlotPanel": "live_plot",
 }
 
 

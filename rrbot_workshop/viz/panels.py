@@ -1,14 +1,17 @@
 """Panels in the notebook, the rqt tools' equivalents: a controller manager panel and a trajectory panel.
 
 * :class:`ControllerManagerPanel` (``rqt_controller_manager``): every controller and hardware component with its
-  state, buttons to load, configure, activate, deactivate, clean up and unload the chosen controller and to set the
+  state, buttons to load, configure, activate, deactivate, switch to (activating it in place of the controllers that
+  command its interfaces), clean up and unload the chosen controller and to set the
   chosen component's state, a button that runs the robot for a second of simulated time, and the lifecycle diagram.
   Before a switch it asks the controller manager's dry run (:meth:`ControllerManager.explain_switch`, ``%control
   why``): a button that would fail changes nothing and shows why instead.
 * :class:`TrajectoryPanel` (``rqt_joint_trajectory_controller``): one slider per joint of a joint trajectory
   controller, within the description's limits, a duration, and a button that sends the goal and runs the robot.
+* :class:`~rrbot_workshop.viz.live_plot.PlotPanel` (``rqt_plot``): interfaces and topic fields over the last seconds.
 
-Time is the system's (simulated by default): the robot moves when a panel's run button, or a cell, spins it. Each
+Time is the system's (simulated by default): the robot moves when a panel's run button, or a cell, spins it, or all
+the time after ``system.spin_in_background()`` (the panels then follow by themselves). Each
 action is a method (``panel.activate()``, ``panel.send()``) that the buttons call, so a test or a cell drives a panel
 exactly as a click does.
 """
@@ -18,9 +21,11 @@ from __future__ import annotations
 import html
 from typing import Any
 
+from rrbot_workshop.controller_manager.activity import ACTIVITY_TOPIC
 from rrbot_workshop.exceptions import RRBotWorkshopError
+from rrbot_workshop.viz.live_plot import PlotPanel
 
-__all__ = ["ControllerManagerPanel", "TrajectoryPanel"]
+__all__ = ["ControllerManagerPanel", "TrajectoryPanel", "PlotPanel"]
 
 
 def _widgets() -> Any:
@@ -37,7 +42,7 @@ class ControllerManagerPanel:
         run_seconds: Simulated time the run button spins [s].
     """
 
-    VERBS = ("load", "configure", "activate", "deactivate", "cleanup", "unload")
+    VERBS = ("load", "configure", "activate", "deactivate", "switch to", "cleanup", "unload")
 
     def __init__(self, system: Any, run_seconds: float = 1.0) -> None:
         w = _widgets()
@@ -48,7 +53,7 @@ class ControllerManagerPanel:
         self.component = w.Dropdown(description="hardware", options=self.cm.resource_manager.component_names())
         self.buttons = {verb: w.Button(description=verb) for verb in self.VERBS}
         for verb, button in self.buttons.items():
-            button.on_click(lambda _b, v=verb: getattr(self, v)())
+            button.on_click(lambda _b, v=verb: getattr(self, v.replace(" ", "_"))())
         self.hardware_buttons = {s: w.Button(description=s) for s in ("unconfigured", "inactive", "active")}
         for state, button in self.hardware_buttons.items():
             button.on_click(lambda _b, s=state: self.set_hardware_state(s))
@@ -67,6 +72,14 @@ class ControllerManagerPanel:
             self.diagram,
         ])
         self.refresh()
+        # as rqt_controller_manager listens to ~/activity: redraw when a state changes, whoever changed it (a cell,
+        # a fault in the loop, another panel); delivered with the next cycle, at once while spinning in the background
+        self._activity = system.bus.create_subscription(None, ACTIVITY_TOPIC, lambda _msg: self.refresh(),
+                                                        owner="controller_manager_panel")
+
+    def stop(self) -> None:
+        """Stop following the controller manager's activity (the panel keeps its last view)."""
+        self._activity.destroy()
 
     # ----------------------------------------------------------------- what is shown
     def _controller_names(self) -> list[str]:
@@ -138,6 +151,16 @@ class ControllerManagerPanel:
         """Deactivate the chosen controller in a strict switch, or say why it would fail."""
         return self._switch([], [name or self.controller.value])
 
+    def switch_to(self, name: str | None = None) -> bool:
+        """Activate the chosen controller and, in the same strict switch, deactivate the active controllers that
+        command any of its command interfaces (forward position -> trajectory controller); or say why it would fail."""
+        name = name or self.controller.value
+        spec = self.cm.controllers.get(name)
+        wanted = set(self.cm.command_interface_names(spec)) if spec is not None else set()
+        holders = [other for other, s in self.cm.controllers.items() if other != name and s.state.label == "active"
+                   and wanted & set(self.cm.command_interface_names(s))]
+        return self._switch([name], holders)
+
     def switch(self, activate: list[str], deactivate: list[str]) -> bool:
         """One strict switch, or the reasons it would fail."""
         return self._switch(list(activate), list(deactivate))
@@ -163,7 +186,11 @@ class ControllerManagerPanel:
         return self._request(f"set {name} {state}", call)
 
     def run(self, seconds: float | None = None) -> None:
-        """Spin the system for ``seconds`` [s] of its time (default: ``run_seconds``)."""
+        """Spin the system for ``seconds`` [s] of its time (default: ``run_seconds``); nothing to do while it spins
+        in the background."""
+        if self.system.background is not None:
+            self._say("the system spins in the background: no need to run it")
+            return
         self.system.spin(self.run_seconds if seconds is None else seconds)
         self.refresh()
 
@@ -215,7 +242,8 @@ class TrajectoryPanel:
         self.widget = w.VBox([*self.sliders, self.duration, self.send_button, self.status])
 
     def send(self, run: bool = True) -> list[float]:
-        """Send the sliders' positions as one goal reached in ``duration``; run until then (plus 0.5 s).
+        """Send the sliders' positions as one goal reached in ``duration``; run until then (plus 0.5 s), unless the
+        system spins in the background (then the robot moves by itself and the status shows where it is now).
 
         Returns:
             The joints' positions afterwards (those of the controller's joints in ``/joint_states``).
@@ -226,7 +254,7 @@ class TrajectoryPanel:
         self.system.publish(f"/{self.controller}/joint_trajectory", JointTrajectory(
             joint_names=list(self.joints),
             points=[JointTrajectoryPoint(positions=goal, time_from_start=float(self.duration.value))]))
-        if run:
+        if run and self.system.background is None:
             self.system.spin(float(self.duration.value) + 0.5)
         state = self.system.latest("/joint_states")
         reached = [state.position[state.name.index(j)] for j in self.joints] if state is not None else []

@@ -89,3 +89,12 @@ def test_the_trajectory_panel_moves_the_arm_within_the_limits(system: rw.System)
 def test_a_trajectory_panel_for_a_controller_that_is_not_loaded_is_refused(system: rw.System) -> None:
     with pytest.raises(rw.exceptions.RRBotWorkshopError, match="not a loaded controller"):
         TrajectoryPanel(system, JTC)
+
+
+def test_switch_to_replaces_the_controllers_commanding_the_same_joints(system: rw.System) -> None:
+    panel = ControllerManagerPanel(system)
+    _click(panel, "load", JTC)
+    _click(panel, "configure", JTC)
+    _click(panel, "switch to", JTC)
+    assert panel.states()[0] == {FWD: "inactive", JSB: "active", JTC: "active"}
+    assert "activate joint_trajectory_controller and deactivate forward_position_controller: done" in panel.last_message
