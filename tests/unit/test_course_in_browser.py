@@ -1,8 +1,10 @@
 """The course as a learner starts it: the README's start command on a fresh clone, JupyterLab in headless Chromium.
 
 The server must listen on 127.0.0.1 only, open at the learner's copy of 00_intro, show the notebooks and the exercise
-folders in the file browser, and open an exercise file in the editor; the page must not be blank. The server is
-stopped with the test.
+folders in the file browser, open an exercise file in the editor, and run the intro's first cells in the page; the
+panels must render, answer real clicks and follow a system spinning in the background of the kernel. Screenshots are
+written to ``RRBOT_WORKSHOP_SCREENSHOTS`` (a directory) when it is set, to be looked at. The server (and with it the
+kernels) is stopped with the test.
 """
 
 from __future__ import annotations
@@ -19,6 +21,7 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
+from browser_driver import LAB_HELPERS, Browser
 
 ROOT = Path(__file__).resolve().parents[2]
 CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
@@ -61,7 +64,7 @@ def lab(tmp_path_factory: pytest.TempPathFactory) -> Iterator[tuple[str, Path]]:
     env = {k: v for k, v in os.environ.items() if not k.startswith("RRBOT_WORKSHOP_")}
     server = subprocess.Popen(
         [sys.executable, "workshop.py", "start", "--no-browser", f"--port={port}", "--ServerApp.token=",
-         "--ServerApp.password="],
+         "--ServerApp.password=", "--LabApp.expose_app_in_browser=True"],
         cwd=clone, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
     url = f"http://127.0.0.1:{port}"
     try:
@@ -114,3 +117,109 @@ def test_an_exercise_file_opens_in_the_editor(lab: tuple[str, Path], tmp_path: P
     dom = _chromium(f"{url}/lab/tree/exercises/task08_write_a_controller/displacement_controller.py",
                     tmp_path / "profile", "--dump-dom")
     assert "DisplacementController" in dom and "TODO" in dom, "the exercise file is not shown in the editor"
+
+
+def _keep(png: Path) -> None:
+    """Copy a screenshot to RRBOT_WORKSHOP_SCREENSHOTS, if set."""
+    target = os.environ.get("RRBOT_WORKSHOP_SCREENSHOTS")
+    if target:
+        Path(target).mkdir(parents=True, exist_ok=True)
+        shutil.copy(png, Path(target) / png.name)
+
+
+@pytest.fixture
+def browser(tmp_path: Path) -> Iterator[Browser]:
+    assert CHROMIUM is not None
+    b = Browser(CHROMIUM, tmp_path / "profile")
+    try:
+        yield b
+    finally:
+        b.close()
+
+
+def _open_notebook(browser: Browser, url: str, path: str) -> int:
+    browser.open(f"{url}/lab")
+    browser.wait_for("!!(window.jupyterapp && document.querySelector('.jp-DirListing'))", 90, "JupyterLab to start")
+    browser.js(LAB_HELPERS)
+    return int(browser.js(f"rrbotTest.open({path!r})"))
+
+
+def test_the_intro_runs_its_first_cells_in_the_browser(lab: tuple[str, Path], browser: Browser, tmp_path: Path) -> None:
+    url, _ = lab
+    assert _open_notebook(browser, url, "my_notebooks/00_intro.ipynb") > 10
+    cells = [1, 4, 6]  # imports and %load_ext, the bring-up, %control list_controllers
+    browser.js(f"rrbotTest.run({cells}); true")  # started, not awaited: done() is polled
+    browser.wait_for(f"rrbotTest.done({cells})", 120, "the intro's first cells to run")
+    assert browser.js("rrbotTest.errors()") == []
+    listing = browser.js("rrbotTest.outputText(6)")
+    assert "forward_position_controller" in listing and "active" in listing, listing
+    png = browser.screenshot(tmp_path / "intro_cells.png")
+    assert png.stat().st_size > 20_000
+    _keep(png)
+
+
+PANELS_NOTEBOOK = [
+    "import rrbot_workshop as rw\n"
+    "from rrbot_workshop.msgs import Float64MultiArray\n"
+    "system = rw.bringup('rrbot', 'rrbot_controllers.yaml', name='browser',\n"
+    "                    spawn=['joint_state_broadcaster', 'forward_position_controller'],\n"
+    "                    inactive=['joint_trajectory_controller'])",
+    "rw.viz.ControllerManagerPanel(system)",
+    "rw.viz.PlotPanel(system, ['joint1/position', 'joint2/position', '/joint_states:position[joint1]'], window=4.0)",
+    "rw.viz.TrajectoryPanel(system)",
+    "system.publish('/forward_position_controller/commands', Float64MultiArray(data=[0.8, -0.4]))\n"
+    "system.spin_in_background()",
+]
+
+_CLICK = "[...document.querySelectorAll('button')].find(b => b.innerText.trim() === {!r}).click(); true"
+_STATE = ("(() => {{ const row = [...document.querySelectorAll('.widget-html table tr')]"
+          ".find(r => r.cells.length && r.cells[0].innerText.trim() === {!r});"
+          " return row ? row.cells[row.cells.length - 1].innerText.trim() : ''; }})()")
+_PLOT = "(document.querySelector('.widget-image') || {src: ''}).src"
+
+
+def test_the_panels_answer_clicks_while_the_system_spins_in_the_background(
+        lab: tuple[str, Path], browser: Browser, tmp_path: Path) -> None:
+    import nbformat
+
+    url, clone = lab
+    notebook = nbformat.v4.new_notebook(cells=[nbformat.v4.new_code_cell(c) for c in PANELS_NOTEBOOK])
+    # without a kernelspec JupyterLab asks which kernel to start, and the notebook's session never becomes ready
+    notebook.metadata["kernelspec"] = {"display_name": "Python 3", "language": "python", "name": "python3"}
+    nbformat.write(notebook, clone / "my_notebooks" / "panels_in_the_browser.ipynb")
+    assert _open_notebook(browser, url, "my_notebooks/panels_in_the_browser.ipynb") == len(PANELS_NOTEBOOK)
+    cells = list(range(len(PANELS_NOTEBOOK)))
+    browser.js(f"rrbotTest.run({cells}); true")  # started, not awaited: done() is polled
+    browser.wait_for(f"rrbotTest.done({cells})", 120, "the panel cells to run")
+    assert browser.js("rrbotTest.errors()") == []
+    assert browser.wait_for(_STATE.format("forward_position_controller"), 30, "the controller manager panel's table") \
+        == "active"
+
+    # the plot is redrawn while no cell runs: the background loop moves the robot and the panel follows
+    first = browser.wait_for(_PLOT, 30, "the live plot")
+    browser.wait_for(f"{_PLOT} !== {first!r}", 30, "the live plot to change while the system spins")
+
+    # choose the trajectory controller in the panel's dropdown, as a learner would
+    browser.js("(() => { const s = document.querySelector('.widget-dropdown select');"
+               " s.value = [...s.options].find(o => o.text === 'joint_trajectory_controller').value;"
+               " s.dispatchEvent(new Event('change', {bubbles: true})); return true; })()")
+    # activating it beside the forward controller would fail: nothing changes, the panel says why
+    browser.js(_CLICK.format("activate"))
+    browser.wait_for("document.body.innerText.includes('activate joint_trajectory_controller would fail; nothing was "
+                     "changed')", 30, "the panel's why")
+    assert browser.js(_STATE.format("joint_trajectory_controller")) == "inactive"
+    # switching to it replaces the forward controller in one switch
+    browser.js(_CLICK.format("switch to"))
+    browser.wait_for(f"{_STATE.format('joint_trajectory_controller')} === 'active' && "
+                     f"{_STATE.format('forward_position_controller')} === 'inactive'", 30,
+                     "the switch to the trajectory controller to show in the table")
+    browser.js(_CLICK.format("send and run"))
+    browser.wait_for("[...document.querySelectorAll('.widget-label')].some(l => l.innerText.startsWith('goal'))", 30,
+                     "the trajectory panel's status")
+    browser.js("document.querySelector('.widget-image').scrollIntoView(); true")
+    time.sleep(1.0)
+    png = browser.screenshot(tmp_path / "panels.png")
+    assert png.stat().st_size > 20_000
+    _keep(png)
+    browser.js("document.querySelector('.widget-html table').scrollIntoView(); true")
+    _keep(browser.screenshot(tmp_path / "controller_manager_panel.png"))
