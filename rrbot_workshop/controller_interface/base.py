@@ -22,7 +22,7 @@ from rrbot_workshop.hardware_interface.handles import (
     LoanedStateInterface,
     StateInterface,
 )
-from rrbot_workshop.middleware.lifecycle import TRANSITION_SOURCES, CallbackReturn, ReturnType, State
+from rrbot_workshop.middleware.lifecycle import TRANSITION_SOURCES, TRANSITIONS, CallbackReturn, ReturnType, State
 from rrbot_workshop.middleware.params import ParameterSchema, ParamListener
 from rrbot_workshop.middleware.topics import Node, TopicBus
 
@@ -163,6 +163,7 @@ class ControllerInterface:
             raise ControllerError(f"controller '{controller_name}' failed in on_init: {exc}") from exc
         if result is CallbackReturn.SUCCESS:
             self._state = State.UNCONFIGURED
+            TRANSITIONS.bump()
         return result
 
     def get_node(self) -> ControllerNode:
@@ -292,6 +293,7 @@ class ControllerInterface:
         else:
             self._state = previous
             self.handle_error()
+        TRANSITIONS.bump()  # the compiled cycles rebuild their plans
         return self._state
 
     def configure(self) -> State:
@@ -333,6 +335,7 @@ class ControllerInterface:
         previous = self._state
         result = self._run_callback("on_error", previous)
         self._state = State.UNCONFIGURED if result is CallbackReturn.SUCCESS else State.FINALIZED
+        TRANSITIONS.bump()
         return self._state
 
 

@@ -16,62 +16,99 @@ import logging
 import traceback
 from time import perf_counter
 
+from rrbot_workshop.controller_interface.base import ControllerInterface
 from rrbot_workshop.controller_manager.claims import deactivate_controller
 from rrbot_workshop.controller_manager.context import ManagerContext
+from rrbot_workshop.controller_manager.spec import ControllerSpec
 from rrbot_workshop.exceptions import ControllerError, SwitchError
 from rrbot_workshop.middleware.clock import rate_due
-from rrbot_workshop.middleware.lifecycle import ReturnType, State
+from rrbot_workshop.middleware.lifecycle import TRANSITIONS, ReturnType, State
 
-__all__ = ["update_controllers", "controllers_failed", "hardware_failed"]
+__all__ = ["ControllerLoop", "controllers_failed", "hardware_failed"]
 
 # The controller manager's messages keep the logger name they had before it was split into modules.
 _log = logging.getLogger("rrbot_workshop.controller_manager.manager")
 
 
-def update_controllers(cm: ManagerContext, time: float, period: float) -> None:
-    """Update each active controller of ``cm`` that is due, in chain order, then handle failures.
+class ControllerLoop:
+    """The controllers' part of the cycle, compiled: the active controllers in chain order, prepared once.
+
+    The plan holds, for each active controller, its record, its instance, its statistics and its own rate when it is
+    slower than the manager's. It is rebuilt when a lifecycle state changes anywhere
+    (:data:`~rrbot_workshop.middleware.lifecycle.TRANSITIONS`) or the manager changes its update order
+    (:meth:`invalidate`). A cycle still checks that each controller is active before it updates it, calls
+    ``update`` through the instance (a controller whose method is replaced at run time is called as it is now), and
+    takes the slow path (:func:`controllers_failed`) for an exception or a result that is not OK.
 
     Args:
         cm: The controller manager.
-        time: Current time in [s].
-        period: Manager period in [s].
     """
-    failed: list[str] = []
-    controllers = cm._controllers  # noqa: SLF001 - the loop is the manager's own collaborator
-    cm_rate = cm.update_rate
-    active = State.ACTIVE
-    for name in cm._order:  # noqa: SLF001
-        spec = controllers[name]
-        ctrl = spec.controller
-        if ctrl._state is not active:
-            continue
-        rate = ctrl._update_rate or cm_rate
-        last = spec.last_update_time
-        if rate >= cm_rate:
-            ctrl_period = period
-        elif not rate_due(last, time, rate, cm_rate):
-            continue
-        else:  # Jazzy: a slower controller's first update gets its own nominal period, 1/rate
-            ctrl_period = 1.0 / rate if last is None else time - last
-        stats = spec.statistics
-        if last is None:
-            stats.reset()
-        spec.last_update_time = time
-        started = perf_counter()
-        try:
-            result = ctrl.update(time, ctrl_period)
-        except Exception:
-            if not cm.handle_exceptions:
-                raise
-            _log.error("update of controller '%s' raised:\n%s", name, traceback.format_exc())
-            result = ReturnType.ERROR
-        stats.record((perf_counter() - started) * 1e6, ctrl_period)
-        if result is not ReturnType.OK:
-            if result is not ReturnType.ERROR:
-                _log.error("update of controller '%s' returned %r", name, result)
-            failed.append(name)
-    if failed:
-        controllers_failed(cm, failed)
+
+    def __init__(self, cm: ManagerContext) -> None:
+        self._cm = cm
+        self._plan: list[tuple[str, ControllerSpec, ControllerInterface, int]] = []
+        self._built_at = -1
+
+    def invalidate(self) -> None:
+        """Rebuild the plan before the next cycle (the update order changed)."""
+        self._built_at = -1
+
+    def _build(self) -> None:
+        cm = self._cm
+        cm_rate = cm.update_rate
+        plan = []
+        for name in cm._order:  # noqa: SLF001 - the loop is the manager's own collaborator
+            spec = cm._controllers[name]  # noqa: SLF001
+            ctrl = spec.controller
+            if ctrl._state is State.ACTIVE:  # noqa: SLF001
+                rate = ctrl._update_rate or cm_rate  # noqa: SLF001
+                plan.append((name, spec, ctrl, rate if rate < cm_rate else 0))
+        self._plan = plan
+        self._built_at = TRANSITIONS.value
+
+    def update(self, time: float, period: float) -> None:
+        """Update each active controller that is due, in chain order, then handle failures.
+
+        Args:
+            time: Current time in [s].
+            period: Manager period in [s].
+        """
+        if self._built_at != TRANSITIONS.value:
+            self._build()
+        failed: list[str] | None = None
+        active, ok = State.ACTIVE, ReturnType.OK
+        clock = perf_counter
+        for name, spec, ctrl, slow in self._plan:
+            if ctrl._state is not active:  # noqa: SLF001 - changed during this cycle
+                continue
+            last = spec.last_update_time
+            if not slow:
+                ctrl_period = period
+            elif not rate_due(last, time, slow, self._cm.update_rate):
+                continue
+            else:  # Jazzy: a slower controller's first update gets its own nominal period, 1/rate
+                ctrl_period = 1.0 / slow if last is None else time - last
+            stats = spec.statistics
+            if last is None:
+                stats.reset()
+            spec.last_update_time = time
+            started = clock()
+            try:
+                result = ctrl.update(time, ctrl_period)
+            except Exception:
+                if not self._cm.handle_exceptions:
+                    raise
+                _log.error("update of controller '%s' raised:\n%s", name, traceback.format_exc())
+                result = ReturnType.ERROR
+            stats.record((clock() - started) * 1e6, ctrl_period)
+            if result is not ok:
+                if result is not ReturnType.ERROR:
+                    _log.error("update of controller '%s' returned %r", name, result)
+                if failed is None:
+                    failed = []
+                failed.append(name)
+        if failed:
+            controllers_failed(self._cm, failed)
 
 
 def controllers_failed(cm: ManagerContext, failed: list[str]) -> None:

@@ -126,6 +126,8 @@ class ControllerManager:
         self._controllers: dict[str, ControllerSpec] = {}
         self._order: list[str] = []
         self._hooks: list[CycleHook] = []
+        #: The compiled controllers' part of the cycle (see controller_manager.loop.ControllerLoop).
+        self._loop = controller_loop.ControllerLoop(self)
         register_services(self)
         #: Publishes ``/controller_manager/activity`` when a controller or hardware component changes state.
         self.activity = ActivityReporter(self)
@@ -179,6 +181,7 @@ class ControllerManager:
         spec = controller_lifecycle.create(self, name, type)
         self._controllers[name] = spec
         self._order.append(name)
+        self._loop.invalidate()
         _log.info("loaded controller '%s' (%s)", name, spec.type)
         return spec.controller
 
@@ -197,6 +200,7 @@ class ControllerManager:
             self.cleanup_controller(name)
         controller_lifecycle.configure(self.resource_manager, spec)
         self._order = update_order(self.resource_manager, self._controllers)
+        self._loop.invalidate()
 
     @_reports_activity
     def cleanup_controller(self, name: str) -> None:
@@ -208,6 +212,7 @@ class ControllerManager:
         """
         controller_lifecycle.cleanup(self.resource_manager, self._spec(name))
         self._order = update_order(self.resource_manager, self._controllers)
+        self._loop.invalidate()
 
     @_reports_activity
     def unload_controller(self, name: str) -> None:
@@ -225,6 +230,7 @@ class ControllerManager:
         controller_lifecycle.shutdown(spec)
         del self._controllers[name]
         self._order.remove(name)
+        self._loop.invalidate()
 
     @_reports_activity
     def set_controller_state(self, name: str, state: str | State) -> None:
@@ -294,27 +300,33 @@ class ControllerManager:
 
     def read(self, time: float, period: float) -> None:
         """Read all hardware; controllers using failed hardware are deactivated."""
-        status = self.resource_manager.read(time, period)
-        if not status.ok:
-            controller_loop.hardware_failed(self, status.failed_hardware_names, "read")
-            self.activity.check()
+        status = self.resource_manager.read_cycle(time, period)
+        if status is not None:
+            self._hardware_read_failed(status)
+
+    def _hardware_read_failed(self, status: Any) -> None:
+        controller_loop.hardware_failed(self, status.failed_hardware_names, "read")
+        self.activity.check()
 
     def write(self, time: float, period: float) -> None:
         """Write all hardware (commands limited first if ``enforce_command_limits``); controllers using failed
         hardware are deactivated."""
         if self.enforce_command_limits:
             self.resource_manager.enforce_command_limits(period)
-        status = self.resource_manager.write(time, period)
-        if not status.ok:
-            rm = self.resource_manager
-            # a component left INACTIVE deactivated itself (DEACTIVATE); one that failed went through error()
-            quiet = [h for h in status.failed_hardware_names if rm.get_component(h).get_lifecycle_state() is State.INACTIVE]
-            failed = [h for h in status.failed_hardware_names if h not in quiet]
-            if failed:
-                controller_loop.hardware_failed(self, failed, "write")
-            if quiet and self.deactivate_controllers_on_hardware_self_deactivate:
-                controller_loop.hardware_failed(self, quiet, "write", commanders_only=True)
-            self.activity.check()
+        status = self.resource_manager.write_cycle(time, period)
+        if status is not None:
+            self._hardware_write_failed(status)
+
+    def _hardware_write_failed(self, status: Any) -> None:
+        rm = self.resource_manager
+        # a component left INACTIVE deactivated itself (DEACTIVATE); one that failed went through error()
+        quiet = [h for h in status.failed_hardware_names if rm.get_component(h).get_lifecycle_state() is State.INACTIVE]
+        failed = [h for h in status.failed_hardware_names if h not in quiet]
+        if failed:
+            controller_loop.hardware_failed(self, failed, "write")
+        if quiet and self.deactivate_controllers_on_hardware_self_deactivate:
+            controller_loop.hardware_failed(self, quiet, "write", commanders_only=True)
+        self.activity.check()
 
     def update_controllers(self, time: float, period: float) -> None:
         """Update each active controller that is due, in chain order.
@@ -323,24 +335,35 @@ class ControllerManager:
             time: Current time in [s].
             period: Manager period in [s].
         """
-        controller_loop.update_controllers(self, time, period)
+        self._loop.update(time, period)
 
     def update(self, time: float, period: float) -> None:
         """One control cycle: deliver topics, read, update controllers, write, hooks.
+
+        What each step calls is prepared when states change (the resource manager's and the loop's plans), so the
+        cycle itself only calls the components and the controllers; failures take the slow path.
 
         Args:
             time: Time of this cycle in [s].
             period: Time since the previous cycle in [s].
         """
         self.bus.deliver()
-        self.read(time, period)
-        self.update_controllers(time, period)
-        self.write(time, period)
-        for hook in list(self._hooks):
-            try:
-                hook(time, period)
-            except Exception:  # noqa: BLE001 - a plotting hook must not stop the robot
-                _log.error("cycle hook %r raised:\n%s", hook, traceback.format_exc())
+        rm = self.resource_manager
+        status = rm.read_cycle(time, period)
+        if status is not None:
+            self._hardware_read_failed(status)
+        self._loop.update(time, period)
+        if self.enforce_command_limits:
+            rm.enforce_command_limits(period)
+        status = rm.write_cycle(time, period)
+        if status is not None:
+            self._hardware_write_failed(status)
+        if self._hooks:
+            for hook in list(self._hooks):
+                try:
+                    hook(time, period)
+                except Exception:  # noqa: BLE001 - a plotting hook must not stop the robot
+                    _log.error("cycle hook %r raised:\n%s", hook, traceback.format_exc())
 
     def chain_group(self, names: Iterable[str]) -> list[str]:
         """``names`` and every active controller chained to them (either direction), in update order."""

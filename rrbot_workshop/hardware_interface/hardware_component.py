@@ -41,7 +41,7 @@ from rrbot_workshop.description.info import HardwareInfo
 from rrbot_workshop.exceptions import HardwareError
 from rrbot_workshop.hardware_interface.component_interface import HardwareComponentInterface
 from rrbot_workshop.hardware_interface.handles import CommandInterface, StateInterface
-from rrbot_workshop.middleware.lifecycle import CallbackReturn, ReturnType, State
+from rrbot_workshop.middleware.lifecycle import TRANSITIONS, CallbackReturn, ReturnType, State
 
 __all__ = ["HardwareComponent", "HardwareComponentInfo"]
 
@@ -155,6 +155,7 @@ class HardwareComponent:
 
     def _set_state(self, state: State) -> None:
         self._impl._lifecycle_state = state
+        TRANSITIONS.bump()  # the compiled cycles rebuild their plans
 
     # ----------------------------------------------------------------- callback plumbing
     def _call(self, what: str, fn: Callable[..., Any], *args: Any) -> Any:

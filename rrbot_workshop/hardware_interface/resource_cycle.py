@@ -19,9 +19,9 @@ from typing import Any
 from rrbot_workshop.hardware_interface.resource_loading import ComponentEntry
 from rrbot_workshop.hardware_interface.resource_storage import InterfaceStorage
 from rrbot_workshop.middleware.clock import rate_due
-from rrbot_workshop.middleware.lifecycle import ReturnType, State
+from rrbot_workshop.middleware.lifecycle import TRANSITIONS, ReturnType, State
 
-__all__ = ["HardwareReadWriteStatus", "read_or_write"]
+__all__ = ["HardwareReadWriteStatus", "HardwareCycle"]
 
 # The resource manager's messages keep the logger name they had before it was split into modules.
 _log = logging.getLogger("rrbot_workshop.hardware_interface.resource_manager")
@@ -40,59 +40,113 @@ class HardwareReadWriteStatus:
     failed_hardware_names: list[str] = field(default_factory=list)
 
 
-def read_or_write(
-    which: str,
-    entries: Sequence[ComponentEntry],
-    time: float,
-    period: float,
-    update_rate: int,
-    storage: InterfaceStorage,
-    set_component_state: Callable[[str, State], bool],
-) -> HardwareReadWriteStatus:
-    """Call ``read`` or ``write`` (``which``) on every component that is due this cycle.
+class HardwareCycle:
+    """The hardware side of the control cycle, compiled: who reads and who writes, prepared once.
+
+    The plan lists, in cycle order, the components that ``read`` (inactive or active) and those that ``write``
+    (active, not sensors), each with its own rate when it is slower than the manager. It is rebuilt when a lifecycle
+    state changes anywhere (:data:`~rrbot_workshop.middleware.lifecycle.TRANSITIONS`) or the components change
+    (:meth:`set_entries`); a component with a slower rate stays in it whatever its state, as its time of last call
+    moves on in every state. A cycle then only calls the components: every call still goes through the component's
+    lifecycle wrapper, which checks the state, catches what the implementation raises and maps its result, and any
+    result but OK takes the slow path (the rules at the top of this module).
 
     Args:
-        which: ``"read"`` or ``"write"``.
-        entries: The components, in cycle order.
-        time: Current time in [s].
-        period: Controller manager period in [s].
-        update_rate: Controller manager rate in [Hz].
+        update_rate: The controller manager's rate in [Hz].
         storage: The interface storage whose availability failures change.
         set_component_state: The resource manager's state setter (DEACTIVATE from ``write``).
     """
-    status = HardwareReadWriteStatus()
-    reading = which == "read"
-    for entry in entries:
-        if entry.rw_rate >= update_rate:  # the common case: every cycle, the manager's period
+
+    def __init__(self, update_rate: int, storage: InterfaceStorage,
+                 set_component_state: Callable[[str, State], bool]) -> None:
+        self.update_rate = update_rate
+        self._storage = storage
+        self._set_component_state = set_component_state
+        self._entries: Sequence[ComponentEntry] = ()
+        self._reads: list[tuple[ComponentEntry, Any, int]] = []
+        self._writes: list[tuple[ComponentEntry, Any, int]] = []
+        self._built_at = -1
+
+    def set_entries(self, entries: Sequence[ComponentEntry]) -> None:
+        """The components, in cycle order (after a load or a rejected load)."""
+        self._entries = entries
+        self._built_at = -1
+
+    def _build(self) -> None:
+        readable, active = (State.INACTIVE, State.ACTIVE), State.ACTIVE
+        self._reads, self._writes = [], []
+        for entry in self._entries:
+            component = entry.component
+            state = component.get_lifecycle_state()
+            slow = entry.rw_rate if entry.rw_rate < self.update_rate else 0
+            # a slower component stays in the plan whatever its state: its last call time moves on as before
+            if slow or state in readable:
+                self._reads.append((entry, component, slow))
+            if slow or (state is active and component.type != "sensor"):
+                self._writes.append((entry, component, slow))
+        self._built_at = TRANSITIONS.value
+
+    def read(self, time: float, period: float) -> HardwareReadWriteStatus | None:
+        """Read every component that is due; None when all returned OK, else what failed."""
+        if self._built_at != TRANSITIONS.value:
+            self._build()
+        status = None
+        ok = ReturnType.OK
+        for entry, component, slow in self._reads:
             own_period = period
-        else:
-            last = entry.last_read if reading else entry.last_write
-            if not rate_due(last, time, entry.rw_rate, update_rate):
-                continue
-            own_period = period if last is None else time - last
-        if reading:
+            if slow:
+                last = entry.last_read
+                if not rate_due(last, time, slow, self.update_rate):
+                    continue
+                own_period = period if last is None else time - last
             entry.last_read = time
-        else:
+            try:  # the wrapper catches what the implementation raises; this catches what the wrapper raises
+                result = component.read(time, own_period)
+            except Exception:  # noqa: BLE001 - handle_exceptions
+                _log.error("read of hardware '%s' raised:\n%s", entry.info.name, traceback.format_exc())
+                result = ReturnType.ERROR
+            if result is not ok:
+                status = self._failed("read", entry, result, status)
+        return status
+
+    def write(self, time: float, period: float) -> HardwareReadWriteStatus | None:
+        """Write every component that is due; None when all returned OK, else what failed or deactivated."""
+        if self._built_at != TRANSITIONS.value:
+            self._build()
+        status = None
+        ok = ReturnType.OK
+        for entry, component, slow in self._writes:
+            own_period = period
+            if slow:
+                last = entry.last_write
+                if not rate_due(last, time, slow, self.update_rate):
+                    continue
+                own_period = period if last is None else time - last
             entry.last_write = time
-        component = entry.component
-        try:
-            result = component.read(time, own_period) if reading else component.write(time, own_period)
-        except Exception:  # noqa: BLE001 - handle_exceptions
-            _log.error("%s of hardware '%s' raised:\n%s", which, entry.info.name, traceback.format_exc())
-            result = ReturnType.ERROR
-        if result is ReturnType.OK:
-            continue
+            try:  # the wrapper catches what the implementation raises; this catches what the wrapper raises
+                result = component.write(time, own_period)
+            except Exception:  # noqa: BLE001 - handle_exceptions
+                _log.error("write of hardware '%s' raised:\n%s", entry.info.name, traceback.format_exc())
+                result = ReturnType.ERROR
+            if result is not ok:
+                status = self._failed("write", entry, result, status)
+        return status
+
+    def _failed(self, which: str, entry: ComponentEntry, result: Any,
+                status: HardwareReadWriteStatus | None) -> HardwareReadWriteStatus:
+        """The slow path: the rules at the top of this module for a result that is not OK."""
+        status = status or HardwareReadWriteStatus()
         status.ok = False
         if result is ReturnType.DEACTIVATE and which == "write":
             _log.warning("hardware '%s' asked to be deactivated from write", entry.info.name)
-            set_component_state(entry.info.name, State.INACTIVE)
+            self._set_component_state(entry.info.name, State.INACTIVE)
             status.failed_hardware_names.append(entry.info.name)
-            continue
-        for failed in _group_of(entry, entries):
-            _fail(failed, which, result, storage)
+            return status
+        for failed in _group_of(entry, self._entries):
+            _fail(failed, which, result, self._storage)
             if failed.info.name not in status.failed_hardware_names:
                 status.failed_hardware_names.append(failed.info.name)
-    return status
+        return status
 
 
 def _group_of(entry: ComponentEntry, entries: Sequence[ComponentEntry]) -> list[ComponentEntry]:

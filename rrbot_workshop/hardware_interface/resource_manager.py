@@ -33,7 +33,7 @@ from rrbot_workshop.exceptions import HardwareError
 from rrbot_workshop.hardware_interface import resource_mode_switch
 from rrbot_workshop.hardware_interface.hardware_component import HardwareComponent, HardwareComponentInfo
 from rrbot_workshop.hardware_interface.joint_limits import JointCommandLimiter
-from rrbot_workshop.hardware_interface.resource_cycle import HardwareReadWriteStatus, read_or_write
+from rrbot_workshop.hardware_interface.resource_cycle import HardwareCycle, HardwareReadWriteStatus
 from rrbot_workshop.hardware_interface.resource_interfaces import ResourceInterfaces
 from rrbot_workshop.hardware_interface.resource_loading import ComponentEntry, check_infos, cycle_order, load_component
 from rrbot_workshop.middleware.lifecycle import State
@@ -73,6 +73,8 @@ class ResourceManager(ResourceInterfaces):
         self.last_switch_error = ""
         self._entries: dict[str, ComponentEntry] = {}
         self._cycle_order: list[ComponentEntry] = []
+        #: The compiled read/write plan (see resource_cycle.HardwareCycle).
+        self._cycle = HardwareCycle(update_rate, self._storage, self.set_component_state)
         #: Joint limiters by component name, built on the first enforce_command_limits() after a load.
         self._limiters: dict[str, list[tuple[JointCommandLimiter, dict[str, str], dict[str, str]]]] = {}
         if urdf is not None:
@@ -107,13 +109,17 @@ class ResourceManager(ResourceInterfaces):
             for name in loaded:
                 entry = self._entries.pop(name)
                 self._storage.remove_hardware(name, entry.state_names, entry.command_names)
-            self._cycle_order = cycle_order(self._entries.values())
+            self._set_cycle_order()
             raise
         for info in infos:
             default = State.ACTIVE if self.activate_all else State.UNCONFIGURED
             target = self._initial_states.get(info.name, default)
             if target is not State.UNCONFIGURED and not self.set_component_state(info.name, target):
                 _log.error("hardware component '%s' did not reach its initial state '%s'", info.name, target.label)
+
+    def _set_cycle_order(self) -> None:
+        self._cycle_order = cycle_order(self._entries.values())
+        self._cycle.set_entries(self._cycle_order)
 
     def import_component(self, impl: Any, info: HardwareInfo, *, _transition: bool = True) -> None:
         """Add a ready-made component instance (tests and notebooks), initialise it and store its handles.
@@ -128,7 +134,7 @@ class ResourceManager(ResourceInterfaces):
         if info.name in self._entries:
             raise HardwareError(f"hardware component '{info.name}' is already loaded")
         self._entries[info.name] = load_component(impl, info, self._storage, self.update_rate)
-        self._cycle_order = cycle_order(self._entries.values())
+        self._set_cycle_order()
         if _transition:
             target = self._initial_states.get(info.name, State.ACTIVE if self.activate_all else State.UNCONFIGURED)
             if target is not State.UNCONFIGURED:
@@ -245,8 +251,11 @@ class ResourceManager(ResourceInterfaces):
             time: Current time in [s].
             period: Controller manager period in [s].
         """
-        return read_or_write("read", self._cycle_order, time, period, self.update_rate, self._storage,
-                             self.set_component_state)
+        return self._cycle.read(time, period) or HardwareReadWriteStatus()
+
+    def read_cycle(self, time: float, period: float) -> HardwareReadWriteStatus | None:
+        """:meth:`read` for the controller manager's cycle: None when every component returned OK."""
+        return self._cycle.read(time, period)
 
     def enforce_command_limits(self, period: float) -> None:
         """Limit every active component's joint commands (see :mod:`~rrbot_workshop.hardware_interface.joint_limits`).
@@ -289,5 +298,8 @@ class ResourceManager(ResourceInterfaces):
 
     def write(self, time: float, period: float) -> HardwareReadWriteStatus:
         """Write every component that is due this cycle (components write only while ACTIVE)."""
-        return read_or_write("write", self._cycle_order, time, period, self.update_rate, self._storage,
-                             self.set_component_state)
+        return self._cycle.write(time, period) or HardwareReadWriteStatus()
+
+    def write_cycle(self, time: float, period: float) -> HardwareReadWriteStatus | None:
+        """:meth:`write` for the controller manager's cycle: None when every component returned OK."""
+        return self._cycle.write(time, period)

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import enum
 
-__all__ = ["State", "CallbackReturn", "ReturnType", "TRANSITION_SOURCES"]
+__all__ = ["State", "CallbackReturn", "ReturnType", "TRANSITION_SOURCES", "TRANSITIONS", "TransitionCounter"]
 
 
 class State(enum.Enum):
@@ -72,3 +72,27 @@ TRANSITION_SOURCES: dict[str, tuple[State, ...]] = {
     "deactivate": (State.ACTIVE,),
     "shutdown": (State.UNCONFIGURED, State.INACTIVE, State.ACTIVE),
 }
+
+
+class TransitionCounter:
+    """Counts lifecycle state changes of every controller and hardware component in the process.
+
+    The control cycle is compiled: the controller manager and the resource manager prepare, once, the list of what
+    each cycle calls (the active controllers in chain order, the components that read and write). A plan is kept
+    while :attr:`value` is the one it was built at; every state change calls :meth:`bump`, and the next cycle
+    rebuilds. The cycle itself still checks each state it relies on, so a stale plan can skip work, never run work
+    that the states forbid.
+    """
+
+    __slots__ = ("value",)
+
+    def __init__(self) -> None:
+        self.value = 0
+
+    def bump(self) -> None:
+        """Record a state change."""
+        self.value += 1
+
+
+#: The process-wide counter the controller and hardware lifecycles bump.
+TRANSITIONS = TransitionCounter()
