@@ -261,12 +261,12 @@ joint_state_broadcaster:
         the ones read in this cycle.
         """
         values = self._read_values()
+        # this cycle's values and layout go with each message (a new layout after a restart is a new list)
         if self._joint_state_pub is not None:
-            names, plan, frame = self.joint_names, self._js_plan, self._frame_id  # this cycle's layout, kept with it
-            self._joint_state_pub.publish_lazy(lambda: _joint_state(time, frame, names, plan, values))
+            self._joint_state_pub.publish_lazy(_joint_state, time, self._frame_id, self.joint_names, self._js_plan,
+                                               values)
         if self._dynamic_pub is not None:
-            dynamic, frame = self._dynamic_plan, self._frame_id
-            self._dynamic_pub.publish_lazy(lambda: _dynamic_joint_state(time, frame, dynamic, values))
+            self._dynamic_pub.publish_lazy(_dynamic_joint_state, time, self._frame_id, self._dynamic_plan, values)
         return ReturnType.OK
 
 

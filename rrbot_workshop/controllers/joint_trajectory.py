@@ -353,8 +353,9 @@ class JointTrajectoryController(ControllerInterface, FollowJointTrajectoryServer
     def _publish_state(self, io: JointInterfaces, time: float) -> None:
         if self._pub is None:
             return
-        self._pub.publish(controller_state_message(time, self._p.joints, self.state_desired, self.state_current,
-                                                   self.state_error, io.command_point()))
+        # built when someone reads it: this cycle's points are never changed afterwards (each cycle makes new ones)
+        self._pub.publish_lazy(controller_state_message, time, self._p.joints, self.state_desired, self.state_current,
+                               self.state_error, io.command_point())  # the commands now, not when it is read
 
     # ----------------------------------------------------------------- introspection
     @property

@@ -24,6 +24,10 @@ from rrbot_workshop.msgs import JointTrajectoryPoint
 __all__ = ["JointInterfaces"]
 
 
+#: The command kinds in the order of JointTrajectoryPoint's fields (positions, velocities, accelerations, effort).
+_POINT_KINDS = ("position", "velocity", "acceleration", "effort")
+
+
 class JointInterfaces:
     """The command and state interfaces of an active JTC, per kind in joint order.
 
@@ -125,12 +129,12 @@ class JointInterfaces:
 
     def command_point(self) -> JointTrajectoryPoint:
         """The current commands as a point (fields of the missing command kinds stay empty)."""
-        point = JointTrajectoryPoint()
-        for kind, attr in (("position", "positions"), ("velocity", "velocities"), ("acceleration", "accelerations"),
-                           ("effort", "effort")):
-            if kind in self._commands:
-                setattr(point, attr, self.command_values(kind, math.nan))
-        return point
+        if self._identity:  # every joint commanded: each field is one read (the common case, in every cycle)
+            read = self._read_command
+            p, v, a, e = (read[kind]() if kind in read else [] for kind in _POINT_KINDS)
+        else:
+            p, v, a, e = (self.command_values(kind, math.nan) if kind in self._commands else [] for kind in _POINT_KINDS)
+        return JointTrajectoryPoint(p, v, a, e)
 
     def write(self, kind: str, values: Sequence[float]) -> None:
         """Write per-joint ``values`` to the ``kind`` command interfaces; nothing if fewer values than joints."""
