@@ -51,13 +51,15 @@ class ControllerManagerPanel:
         self.run_seconds = run_seconds
         self.controller = w.Dropdown(description="controller", options=self._controller_names())
         self.component = w.Dropdown(description="hardware", options=self.cm.resource_manager.component_names())
-        self.buttons = {verb: w.Button(description=verb) for verb in self.VERBS}
+        fit = {"width": "auto", "min_width": "6em"}  # a button as wide as its word: no "acti..." in a narrow notebook
+        self.buttons = {verb: w.Button(description=verb, layout=w.Layout(**fit)) for verb in self.VERBS}
         for verb, button in self.buttons.items():
             button.on_click(lambda _b, v=verb: getattr(self, v.replace(" ", "_"))())
-        self.hardware_buttons = {s: w.Button(description=s) for s in ("unconfigured", "inactive", "active")}
+        self.hardware_buttons = {s: w.Button(description=s, layout=w.Layout(**fit))
+                                 for s in ("unconfigured", "inactive", "active")}
         for state, button in self.hardware_buttons.items():
             button.on_click(lambda _b, s=state: self.set_hardware_state(s))
-        self.run_button = w.Button(description=f"run {run_seconds:g} s")
+        self.run_button = w.Button(description=f"run {run_seconds:g} s", layout=w.Layout(**fit))
         self.run_button.on_click(lambda _b: self.run())
         self.table = w.HTML()
         self.message = w.HTML()
@@ -66,8 +68,9 @@ class ControllerManagerPanel:
         self.last_message = ""
         self.widget = w.VBox([
             self.table,
-            w.HBox([self.controller, *self.buttons.values()]),
-            w.HBox([self.component, *self.hardware_buttons.values(), self.run_button]),
+            w.HBox([self.controller, *self.buttons.values()], layout=w.Layout(flex_flow="row wrap")),
+            w.HBox([self.component, *self.hardware_buttons.values(), self.run_button],
+                   layout=w.Layout(flex_flow="row wrap")),
             self.message,
             self.diagram,
         ])
@@ -254,11 +257,16 @@ class TrajectoryPanel:
         self.system.publish(f"/{self.controller}/joint_trajectory", JointTrajectory(
             joint_names=list(self.joints),
             points=[JointTrajectoryPoint(positions=goal, time_from_start=float(self.duration.value))]))
-        if run and self.system.background is None:
+        moving_by_itself = self.system.background is not None
+        if run and not moving_by_itself:
             self.system.spin(float(self.duration.value) + 0.5)
         state = self.system.latest("/joint_states")
         reached = [state.position[state.name.index(j)] for j in self.joints] if state is not None else []
-        self.status.value = f"goal {[round(g, 3) for g in goal]}, now at {[round(q, 3) for q in reached]}"
+        where = [round(q, 3) for q in reached]
+        if moving_by_itself:  # the loop runs after this click returns: say where the robot starts from
+            self.status.value = f"goal {[round(g, 3) for g in goal]} sent from {where}; the background loop moves it"
+        else:
+            self.status.value = f"goal {[round(g, 3) for g in goal]}, now at {where}"
         return reached
 
     def _ipython_display_(self) -> None:

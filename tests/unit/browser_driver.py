@@ -31,6 +31,7 @@ class Browser:
 
     def __init__(self, chromium: str, profile: Path, size: tuple[int, int] = (1400, 900)) -> None:
         profile.mkdir(parents=True, exist_ok=True)
+        (profile / "DevToolsActivePort").unlink(missing_ok=True)  # a reused profile must not hand us an old port
         self._process = subprocess.Popen(
             [chromium, "--headless=new", "--no-sandbox", "--disable-gpu", "--no-first-run", "--disable-sync",
              "--disable-background-networking", "--remote-debugging-address=127.0.0.1", "--remote-debugging-port=0",

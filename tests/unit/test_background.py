@@ -14,7 +14,7 @@ import rrbot_workshop as rw
 from rrbot_workshop.exceptions import HardwareError, RRBotWorkshopError
 from rrbot_workshop.msgs import JointState
 from rrbot_workshop.viz.live_plot import PlotPanel, field_value
-from rrbot_workshop.viz.panels import ControllerManagerPanel
+from rrbot_workshop.viz.panels import ControllerManagerPanel, TrajectoryPanel
 
 JSB, FWD = "joint_state_broadcaster", "forward_position_controller"
 
@@ -106,6 +106,31 @@ def test_the_controller_manager_panel_follows_changes_made_elsewhere(system: rw.
     panel.run()
     assert "spins in the background" not in panel.last_message
     panel.stop()
+
+
+def test_the_trajectory_panel_leaves_the_motion_to_the_background_loop(system: rw.System) -> None:
+    system.controller_manager.load_controller("joint_trajectory_controller")
+    system.controller_manager.configure_controller("joint_trajectory_controller")
+    system.controller_manager.switch_controllers(["joint_trajectory_controller"], [FWD], strictness="strict")
+    panel = TrajectoryPanel(system)
+    panel.sliders[0].value, panel.duration.value = 0.5, 1.0
+
+    async def scenario() -> tuple[float, float]:
+        system.spin_in_background(real_time_factor=20.0, tick=0.01)
+        before = system.time
+        panel.send_button.click()
+        clicked = system.time  # the click itself did not spin
+        for _ in range(1000):  # until the goal's second has passed in simulated time (no wall time is asserted)
+            if system.time > before + 1.2:
+                break
+            await asyncio.sleep(0.01)
+        system.stop_background()
+        return before, clicked
+
+    before, clicked = asyncio.run(scenario())
+    assert clicked == before
+    assert "sent from" in panel.status.value and "background" in panel.status.value
+    assert system.latest("/joint_states").position[0] == pytest.approx(0.5, abs=1e-6), "the goal was not reached"
 
 
 def test_the_plot_panel_keeps_its_window_of_interfaces_and_topic_fields(system: rw.System) -> None:
