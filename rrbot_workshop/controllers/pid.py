@@ -22,7 +22,7 @@ name (Jazzy's callback means to reorder them but does not).
 from __future__ import annotations
 
 import math
-from typing import ClassVar
+from typing import Any, ClassVar
 
 from rrbot_workshop.control_toolbox.pid import Pid
 from rrbot_workshop.controller_interface.base import (
@@ -272,17 +272,23 @@ class PidController(ChainableControllerInterface):
                 out = self.pids[i].compute_command(error, period)
             self.command_interfaces[i].set_value(ff + out)
 
-        if self._state_pub is not None:
-            msg = MultiDOFStateStamped(header=Header(stamp=time))
-            for i, name in enumerate(self.reference_and_state_dof_names):
-                ref, state = refs[i], self._measured[i]
-                g = gains[self._dof_names[i]]
-                s = SingleDOFState(name=name, reference=ref, feedback=state, time_step=period,
-                                   output=float(self.command_interfaces[i].get_value()))
-                s.error = shortest_angular_distance(state, ref) if g.angle_wraparound else ref - state
-                if two:
-                    s.feedback_dot = self._measured[n + i]
-                    s.error_dot = refs[n + i] - self._measured[n + i]
-                msg.dof_states.append(s)
-            self._state_pub.publish(msg)
+        if self._state_pub is not None:  # built when someone reads it, from this cycle's numbers
+            outputs = [float(self.command_interfaces[i].get_value()) for i in range(len(self.reference_and_state_dof_names))]
+            self._state_pub.publish_lazy(_state_message, time, period, self.reference_and_state_dof_names,
+                                         self._dof_names, gains, refs, list(self._measured), outputs, n, two)
         return ReturnType.OK
+
+
+def _state_message(time: float, period: float, names: list[str], dof_names: list[str], gains: Any, refs: list[float],
+                   measured: list[float], outputs: list[float], n: int, two: bool) -> MultiDOFStateStamped:
+    """The ``~/controller_state`` message of one cycle of the PID controller."""
+    msg = MultiDOFStateStamped(header=Header(stamp=time))
+    for i, name in enumerate(names):
+        ref, state = refs[i], measured[i]
+        s = SingleDOFState(name=name, reference=ref, feedback=state, time_step=period, output=outputs[i])
+        s.error = shortest_angular_distance(state, ref) if gains[dof_names[i]].angle_wraparound else ref - state
+        if two:
+            s.feedback_dot = measured[n + i]
+            s.error_dot = refs[n + i] - measured[n + i]
+        msg.dof_states.append(s)
+    return msg

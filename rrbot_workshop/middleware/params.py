@@ -297,6 +297,10 @@ class Params:
 
     def __init__(self, values: Mapping[str, Any]) -> None:
         object.__setattr__(self, "_values", dict(values))
+        # plain attributes: a controller's cycle reads its parameters at the cost of any attribute; only a missing
+        # name reaches __getattr__ (and its message); a parameter named like a method stays reachable by [name]
+        cls = type(self)
+        self.__dict__.update((k, v) for k, v in self._values.items() if k.isidentifier() and not hasattr(cls, k))
 
     def __getattr__(self, name: str) -> Any:
         try:
