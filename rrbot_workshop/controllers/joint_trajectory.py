@@ -101,6 +101,7 @@ class JointTrajectoryController(ControllerInterface, FollowJointTrajectoryServer
         self.state_desired = JointTrajectoryPoint()
         self.state_error = JointTrajectoryPoint()
         self.command_next = JointTrajectoryPoint()
+        self._checked: tuple[SegmentTolerances, list[int], list[int]] | None = None
 
     # ----------------------------------------------------------------- configuration
     def on_init(self) -> CallbackReturn:
@@ -312,20 +313,35 @@ class JointTrajectoryController(ControllerInterface, FollowJointTrajectoryServer
                 self.state_error = err = compute_state_error(self.state_current, self.state_desired, self._wraparound,
                                                              self._has_state, self._has_cmd)
                 violated, outside_goal, within_goal_time = False, False, True
-                for i in range(self._dof):
-                    if (before_last_point or first_sample) and not self._is_holding and \
-                            not check_state_tolerance_per_joint(err, i, tol.state_tolerance[i], True):
-                        violated = True
-                    if not before_last_point and not self._is_holding and \
-                            not check_state_tolerance_per_joint(err, i, tol.goal_state_tolerance[i]):
-                        outside_goal = True
-                        if tol.goal_time_tolerance != 0.0 and time_difference > tol.goal_time_tolerance:
-                            within_goal_time = False
+                if not self._is_holding:  # only joints with a tolerance above 0 can fail a check
+                    state_checked, goal_checked = self._checked_joints(tol)
+                    if before_last_point or first_sample:
+                        for i in state_checked:
+                            if not check_state_tolerance_per_joint(err, i, tol.state_tolerance[i], True):
+                                violated = True
+                    if not before_last_point:
+                        for i in goal_checked:
+                            if not check_state_tolerance_per_joint(err, i, tol.goal_state_tolerance[i]):
+                                outside_goal = True
+                                if tol.goal_time_tolerance != 0.0 and time_difference > tol.goal_time_tolerance:
+                                    within_goal_time = False
                 if not violated and within_goal_time:
                     self._write_commands(io, time, period)
                 self._handle_outcome(time, violated, before_last_point, outside_goal, within_goal_time, time_difference)
         self._publish_state(io, time)
         return ReturnType.OK
+
+    def _checked_joints(self, tol: SegmentTolerances) -> tuple[list[int], list[int]]:
+        """The joints whose state and goal tolerances check anything, worked out once per tolerance set (a goal's
+        tolerances replace the set; they are never changed in place)."""
+        cached = self._checked
+        if cached is None or cached[0] is not tol:
+            def checked(tolerances: list[Any]) -> list[int]:
+                return [i for i, t in enumerate(tolerances[:self._dof])
+                        if t.position > 0.0 or t.velocity > 0.0 or t.acceleration > 0.0]
+
+            cached = self._checked = (tol, checked(tol.state_tolerance), checked(tol.goal_state_tolerance))
+        return cached[1], cached[2]
 
     def _write_commands(self, io: JointInterfaces, time: float, period: float) -> None:
         nxt = self.command_next

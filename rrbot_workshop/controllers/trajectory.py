@@ -103,14 +103,13 @@ def interpolate_between_points(
         time_from_start=t - t0,
     )
     if p0.effort and p1.effort:
-        for i in range(dim):
-            slope = (p1.effort[i] - p0.effort[i]) / big_t if big_t != 0.0 else 0.0
-            out.effort[i] = p0.effort[i] + slope * tau
-    if not has_vel and not has_acc:
-        for i in range(dim):
-            slope = (p1.positions[i] - p0.positions[i]) / big_t if big_t != 0.0 else 0.0
-            out.positions[i] = p0.positions[i] + slope * tau
-            out.velocities[i] = slope
+        e0, e1 = p0.effort, p1.effort
+        out.effort = [e0[i] + ((e1[i] - e0[i]) / big_t if big_t != 0.0 else 0.0) * tau for i in range(dim)]
+    if not has_vel and not has_acc:  # linear: the common case of a goal given by positions only
+        x0, x1 = p0.positions, p1.positions
+        slopes = [(x1[i] - x0[i]) / big_t for i in range(dim)] if big_t != 0.0 else [0.0] * dim
+        out.positions = [x0[i] + slopes[i] * tau for i in range(dim)]
+        out.velocities = slopes
     elif has_vel and not has_acc:
         T = _powers(big_t, 3)
         for i in range(dim):
