@@ -106,9 +106,9 @@ def interpolate_between_points(
         e0, e1 = p0.effort, p1.effort
         out.effort = [e0[i] + ((e1[i] - e0[i]) / big_t if big_t != 0.0 else 0.0) * tau for i in range(dim)]
     if not has_vel and not has_acc:  # linear: the common case of a goal given by positions only
-        x0, x1 = p0.positions, p1.positions
-        slopes = [(x1[i] - x0[i]) / big_t for i in range(dim)] if big_t != 0.0 else [0.0] * dim
-        out.positions = [x0[i] + slopes[i] * tau for i in range(dim)]
+        pos0, pos1 = p0.positions, p1.positions
+        slopes = [(pos1[i] - pos0[i]) / big_t for i in range(dim)] if big_t != 0.0 else [0.0] * dim
+        out.positions = [pos0[i] + slopes[i] * tau for i in range(dim)]
         out.velocities = slopes
     elif has_vel and not has_acc:
         T = _powers(big_t, 3)
