@@ -97,20 +97,24 @@ def interpolate_between_points(
     if tau > big_t:
         tau = big_t
         has_vel = has_acc = False
-    tt = _powers(tau, 5)
-    out = JointTrajectoryPoint(
-        positions=[0.0] * dim, velocities=[0.0] * dim, accelerations=[0.0] * dim, effort=[0.0] * dim,
-        time_from_start=t - t0,
-    )
+    zeros = [0.0] * dim
+    effort = zeros
     if p0.effort and p1.effort:
         e0, e1 = p0.effort, p1.effort
-        out.effort = [e0[i] + ((e1[i] - e0[i]) / big_t if big_t != 0.0 else 0.0) * tau for i in range(dim)]
+        if big_t != 0.0:
+            effort = [e0[i] + (e1[i] - e0[i]) / big_t * tau for i in range(dim)]
+        else:  # a zero slope: e0 + 0.0 (which also turns -0.0 into 0.0, as the general formula does)
+            effort = [e0[i] + 0.0 for i in range(dim)]
     if not has_vel and not has_acc:  # linear: the common case of a goal given by positions only
         pos0, pos1 = p0.positions, p1.positions
-        slopes = [(pos1[i] - pos0[i]) / big_t for i in range(dim)] if big_t != 0.0 else [0.0] * dim
-        out.positions = [pos0[i] + slopes[i] * tau for i in range(dim)]
-        out.velocities = slopes
-    elif has_vel and not has_acc:
+        slopes = [(pos1[i] - pos0[i]) / big_t for i in range(dim)] if big_t != 0.0 else list(zeros)
+        return JointTrajectoryPoint(positions=[pos0[i] + slopes[i] * tau for i in range(dim)], velocities=slopes,
+                                    accelerations=list(zeros), effort=effort if effort is not zeros else list(zeros),
+                                    time_from_start=t - t0)
+    tt = _powers(tau, 5)
+    out = JointTrajectoryPoint(positions=list(zeros), velocities=list(zeros), accelerations=list(zeros),
+                               effort=effort if effort is not zeros else list(zeros), time_from_start=t - t0)
+    if has_vel and not has_acc:
         T = _powers(big_t, 3)
         for i in range(dim):
             x0, v0, x1, v1 = p0.positions[i], p0.velocities[i], p1.positions[i], p1.velocities[i]
