@@ -1,5 +1,7 @@
 """Chain order: which controllers update before which, and which are chained together.
 
+:class:`ChainGraph` owns one manager's update order; the functions below work it out.
+
 A controller that claims another's reference interfaces updates before it (it writes the
 references the other reads in the same cycle); a controller that reads another's exported state
 interfaces updates after it. Controllers that use each other's interfaces, in either direction,
@@ -19,7 +21,7 @@ from rrbot_workshop.middleware.lifecycle import State
 if TYPE_CHECKING:
     from rrbot_workshop.hardware_interface.resource_manager import ResourceManager
 
-__all__ = ["update_order", "chain_group"]
+__all__ = ["ChainGraph", "update_order", "chain_group"]
 
 # The controller manager's messages keep the logger name they had before it was split into modules.
 _log = logging.getLogger("rrbot_workshop.controller_manager.manager")
@@ -88,3 +90,47 @@ def chain_group(
                 group.add(other)
                 todo.append(other)
     return [n for n in order if n in group]
+
+
+class ChainGraph:
+    """The update order of one controller manager's controllers, and the chains between them.
+
+    It owns the order (preceding controllers first, ties in load order) and is told when it changes: a controller
+    loaded or unloaded, or configured or cleaned up (which adds or removes exported interfaces, so the order is worked
+    out again). :attr:`version` counts the changes, for the plans built on the order (the controller loop's).
+
+    Args:
+        rm: The resource manager that knows which controller exports which interface.
+        controllers: The manager's loaded controllers by name (the live mapping).
+    """
+
+    def __init__(self, rm: ResourceManager, controllers: Mapping[str, ControllerSpec]) -> None:
+        self._rm = rm
+        self._controllers = controllers
+        self._order: list[str] = []
+        #: Number of changes of the order so far.
+        self.version = 0
+
+    @property
+    def order(self) -> list[str]:
+        """Controller names in update order (the graph's own list: read it, do not change it)."""
+        return self._order
+
+    def loaded(self, name: str) -> None:
+        """A controller was loaded: it updates last until its interfaces are known."""
+        self._order.append(name)
+        self.version += 1
+
+    def unloaded(self, name: str) -> None:
+        """A controller was unloaded."""
+        self._order.remove(name)
+        self.version += 1
+
+    def rebuild(self) -> None:
+        """Work the order out again (after a configure or a cleanup)."""
+        self._order = update_order(self._rm, self._controllers)
+        self.version += 1
+
+    def group(self, names: Iterable[str]) -> list[str]:
+        """``names`` and every active controller chained to them (either direction), in update order."""
+        return chain_group(self._rm, self._controllers, self._order, names)

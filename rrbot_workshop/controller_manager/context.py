@@ -48,7 +48,8 @@ class ManagerContext(Protocol):
     handle_exceptions: bool
     #: The registry itself and its update order, for the control loop's fast path.
     _controllers: dict[str, ControllerSpec]
-    _order: list[str]
+    @property
+    def _order(self) -> list[str]: ...
 
     @property
     def activity(self) -> ActivitySink: ...

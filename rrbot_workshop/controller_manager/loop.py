@@ -14,9 +14,11 @@ from __future__ import annotations
 
 import logging
 import traceback
+from collections.abc import Callable, Mapping
 from time import perf_counter
 
 from rrbot_workshop.controller_interface.base import ControllerInterface
+from rrbot_workshop.controller_manager.chains import ChainGraph
 from rrbot_workshop.controller_manager.claims import deactivate_controller
 from rrbot_workshop.controller_manager.context import ManagerContext
 from rrbot_workshop.controller_manager.spec import ControllerSpec
@@ -33,47 +35,51 @@ _log = logging.getLogger("rrbot_workshop.controller_manager.manager")
 class ControllerLoop:
     """The controllers' part of the cycle, compiled: the active controllers in chain order, prepared once.
 
-    The plan holds, for each active controller, its record, its instance, its statistics and its own rate when it is
-    slower than the manager's. It is rebuilt when a lifecycle state changes anywhere
-    (:data:`~rrbot_workshop.middleware.lifecycle.TRANSITIONS`) or the manager changes its update order
-    (:meth:`invalidate`). A cycle still checks that each controller is active before it updates it, calls
-    ``update`` through the instance (a controller whose method is replaced at run time is called as it is now), and
-    takes the slow path (:func:`controllers_failed`) for an exception or a result that is not OK.
+    The loop owns its plan: for each active controller, its record, its instance and its own rate when it is slower
+    than the manager's. The plan is rebuilt when a lifecycle state changes anywhere
+    (:data:`~rrbot_workshop.middleware.lifecycle.TRANSITIONS`) or the chain graph changes its order. A cycle still
+    checks that each controller is active before it updates it, calls ``update`` through the instance (a controller
+    whose method is replaced at run time is called as it is now), records the statistics, and hands the controllers
+    that failed (an exception or a result other than OK) to ``on_failed``, the manager's slow path.
 
     Args:
-        cm: The controller manager.
+        controllers: The manager's loaded controllers by name (the live mapping).
+        chains: The manager's chain graph (the update order).
+        update_rate: The manager's rate in [Hz].
+        on_failed: Called with the names of the controllers that failed in a cycle, in update order.
+        handle_exceptions: Catch what ``update`` raises (ros2_control's parameter); otherwise it propagates.
     """
 
-    def __init__(self, cm: ManagerContext) -> None:
-        self._cm = cm
+    def __init__(self, controllers: Mapping[str, ControllerSpec], chains: ChainGraph, update_rate: int,
+                 on_failed: Callable[[list[str]], None], handle_exceptions: bool = True) -> None:
+        self._controllers = controllers
+        self._chains = chains
+        self.update_rate = update_rate
+        self._on_failed = on_failed
+        self.handle_exceptions = handle_exceptions
         self._plan: list[tuple[str, ControllerSpec, ControllerInterface, int]] = []
-        self._built_at = -1
-
-    def invalidate(self) -> None:
-        """Rebuild the plan before the next cycle (the update order changed)."""
-        self._built_at = -1
+        self._built_for: tuple[int, int] = (-1, -1)
 
     def _build(self) -> None:
-        cm = self._cm
-        cm_rate = cm.update_rate
+        cm_rate = self.update_rate
         plan = []
-        for name in cm._order:  # noqa: SLF001 - the loop is the manager's own collaborator
-            spec = cm._controllers[name]  # noqa: SLF001
+        for name in self._chains.order:
+            spec = self._controllers[name]
             ctrl = spec.controller
-            if ctrl._state is State.ACTIVE:  # noqa: SLF001
+            if ctrl._state is State.ACTIVE:  # noqa: SLF001 - the loop reads the lifecycle state the cycle relies on
                 rate = ctrl._update_rate or cm_rate  # noqa: SLF001
                 plan.append((name, spec, ctrl, rate if rate < cm_rate else 0))
         self._plan = plan
-        self._built_at = TRANSITIONS.value
+        self._built_for = (TRANSITIONS.value, self._chains.version)
 
     def update(self, time: float, period: float) -> None:
-        """Update each active controller that is due, in chain order, then handle failures.
+        """Update each active controller that is due, in chain order, then hand over the failures.
 
         Args:
             time: Current time in [s].
             period: Manager period in [s].
         """
-        if self._built_at != TRANSITIONS.value:
+        if self._built_for != (TRANSITIONS.value, self._chains.version):
             self._build()
         failed: list[str] | None = None
         active, ok = State.ACTIVE, ReturnType.OK
@@ -84,7 +90,7 @@ class ControllerLoop:
             last = spec.last_update_time
             if not slow:
                 ctrl_period = period
-            elif not rate_due(last, time, slow, self._cm.update_rate):
+            elif not rate_due(last, time, slow, self.update_rate):
                 continue
             else:  # Jazzy: a slower controller's first update gets its own nominal period, 1/rate
                 ctrl_period = 1.0 / slow if last is None else time - last
@@ -96,7 +102,7 @@ class ControllerLoop:
             try:
                 result = ctrl.update(time, ctrl_period)
             except Exception:
-                if not self._cm.handle_exceptions:
+                if not self.handle_exceptions:
                     raise
                 _log.error("update of controller '%s' raised:\n%s", name, traceback.format_exc())
                 result = ReturnType.ERROR
@@ -108,7 +114,7 @@ class ControllerLoop:
                     failed = []
                 failed.append(name)
         if failed:
-            controllers_failed(self._cm, failed)
+            self._on_failed(failed)
 
 
 def controllers_failed(cm: ManagerContext, failed: list[str]) -> None:

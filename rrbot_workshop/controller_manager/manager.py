@@ -33,7 +33,7 @@ from rrbot_workshop.controller_manager import introspection
 from rrbot_workshop.controller_manager import lifecycle as controller_lifecycle
 from rrbot_workshop.controller_manager import loop as controller_loop
 from rrbot_workshop.controller_manager.activity import ActivityReporter
-from rrbot_workshop.controller_manager.chains import chain_group, update_order
+from rrbot_workshop.controller_manager.chains import ChainGraph
 from rrbot_workshop.controller_manager.claims import deactivate_controller, required_interfaces
 from rrbot_workshop.controller_manager.explain import SwitchExplanation
 from rrbot_workshop.controller_manager.explain import explain_switch as _explain
@@ -107,7 +107,7 @@ class ControllerManager:
         self.bus = bus if bus is not None else TopicBus()
         self.robot_description = robot_description
         self.clock = clock if clock is not None else SimClock(self.update_rate)
-        self.handle_exceptions = bool(self.params.manager_parameters.get("handle_exceptions", handle_exceptions))
+        handle_exceptions = bool(self.params.manager_parameters.get("handle_exceptions", handle_exceptions))
         #: Jazzy's ``enforce_command_limits`` (default false): limit commands from the description before write.
         self.enforce_command_limits = manager_flag(self.params, "enforce_command_limits", False)
         #: ``defaults.switch_controller.strictness`` (Jazzy: best_effort): a switch asked with strictness 0 or None.
@@ -124,10 +124,15 @@ class ControllerManager:
             resource_manager.allow_controller_activation_with_inactive_hardware,
         )
         self._controllers: dict[str, ControllerSpec] = {}
-        self._order: list[str] = []
+        #: The update order and the chains between the controllers (see controller_manager.chains.ChainGraph).
+        self._chains = ChainGraph(resource_manager, self._controllers)
         self._hooks: list[CycleHook] = []
         #: The compiled controllers' part of the cycle (see controller_manager.loop.ControllerLoop).
-        self._loop = controller_loop.ControllerLoop(self)
+        self._loop = controller_loop.ControllerLoop(
+            self._controllers, self._chains, self.update_rate,
+            on_failed=lambda names: controller_loop.controllers_failed(self, names),
+            handle_exceptions=handle_exceptions,
+        )
         register_services(self)
         #: Publishes ``/controller_manager/activity`` when a controller or hardware component changes state.
         self.activity = ActivityReporter(self)
@@ -144,7 +149,21 @@ class ControllerManager:
 
     def update_order(self) -> list[str]:
         """Controller names in update order (preceding controllers first)."""
-        return list(self._order)
+        return list(self._chains.order)
+
+    @property
+    def _order(self) -> list[str]:
+        """The chain graph's update order (collaborators read it; the graph owns it)."""
+        return self._chains.order
+
+    @property
+    def handle_exceptions(self) -> bool:
+        """ros2_control's ``handle_exceptions``: catch what a controller's ``update`` raises (the loop's flag)."""
+        return self._loop.handle_exceptions
+
+    @handle_exceptions.setter
+    def handle_exceptions(self, value: bool) -> None:
+        self._loop.handle_exceptions = bool(value)
 
     def _spec(self, name: str) -> ControllerSpec:
         try:
@@ -180,8 +199,7 @@ class ControllerManager:
         """
         spec = controller_lifecycle.create(self, name, type)
         self._controllers[name] = spec
-        self._order.append(name)
-        self._loop.invalidate()
+        self._chains.loaded(name)
         _log.info("loaded controller '%s' (%s)", name, spec.type)
         return spec.controller
 
@@ -199,8 +217,7 @@ class ControllerManager:
         if spec.state is State.INACTIVE:
             self.cleanup_controller(name)
         controller_lifecycle.configure(self.resource_manager, spec)
-        self._order = update_order(self.resource_manager, self._controllers)
-        self._loop.invalidate()
+        self._chains.rebuild()
 
     @_reports_activity
     def cleanup_controller(self, name: str) -> None:
@@ -211,8 +228,7 @@ class ControllerManager:
             ControllerError: If it is not inactive.
         """
         controller_lifecycle.cleanup(self.resource_manager, self._spec(name))
-        self._order = update_order(self.resource_manager, self._controllers)
-        self._loop.invalidate()
+        self._chains.rebuild()
 
     @_reports_activity
     def unload_controller(self, name: str) -> None:
@@ -229,8 +245,7 @@ class ControllerManager:
             self.cleanup_controller(name)
         controller_lifecycle.shutdown(spec)
         del self._controllers[name]
-        self._order.remove(name)
-        self._loop.invalidate()
+        self._chains.unloaded(name)
 
     @_reports_activity
     def set_controller_state(self, name: str, state: str | State) -> None:
@@ -367,7 +382,7 @@ class ControllerManager:
 
     def chain_group(self, names: Iterable[str]) -> list[str]:
         """``names`` and every active controller chained to them (either direction), in update order."""
-        return chain_group(self.resource_manager, self._controllers, self._order, names)
+        return self._chains.group(names)
 
     # ================================================================= introspection
     def list_controllers(self) -> list[ControllerState]:
