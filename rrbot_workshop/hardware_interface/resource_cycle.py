@@ -90,46 +90,33 @@ class HardwareCycle:
         """Read every component that is due; None when all returned OK, else what failed."""
         if self._built_at != TRANSITIONS.value:
             self._build()
-        status = None
-        ok = ReturnType.OK
-        for entry, component, slow in self._reads:
-            own_period = period
-            if slow:
-                last = entry.last_read
-                if not rate_due(last, time, slow, self.update_rate):
-                    continue
-                own_period = period if last is None else time - last
-            entry.last_read = time
-            try:  # the wrapper catches what the implementation raises; this catches what the wrapper raises
-                result = component.read(time, own_period)
-            except Exception:  # noqa: BLE001 - handle_exceptions
-                _log.error("read of hardware '%s' raised:\n%s", entry.info.name, traceback.format_exc())
-                result = ReturnType.ERROR
-            if result is not ok:
-                status = self._failed("read", entry, result, status)
-        return status
+        return self._run(self._reads, "read", "last_read", time, period)
 
     def write(self, time: float, period: float) -> HardwareReadWriteStatus | None:
         """Write every component that is due; None when all returned OK, else what failed or deactivated."""
         if self._built_at != TRANSITIONS.value:
             self._build()
+        return self._run(self._writes, "write", "last_write", time, period)
+
+    def _run(self, plan: list[tuple[ComponentEntry, Any, int]], which: str, last_attr: str, time: float,
+             period: float) -> HardwareReadWriteStatus | None:
         status = None
         ok = ReturnType.OK
-        for entry, component, slow in self._writes:
+        for entry, component, slow in plan:
             own_period = period
             if slow:
-                last = entry.last_write
+                last = getattr(entry, last_attr)
                 if not rate_due(last, time, slow, self.update_rate):
                     continue
                 own_period = period if last is None else time - last
-            entry.last_write = time
+            setattr(entry, last_attr, time)
             try:  # the wrapper catches what the implementation raises; this catches what the wrapper raises
-                result = component.write(time, own_period)
+                result = getattr(component, which)(time, own_period)
             except Exception:  # noqa: BLE001 - handle_exceptions
-                _log.error("write of hardware '%s' raised:\n%s", entry.info.name, traceback.format_exc())
+                _log.error("%s of hardware '%s' raised:\n%s", which, entry.info.name, traceback.format_exc())
                 result = ReturnType.ERROR
             if result is not ok:
-                status = self._failed("write", entry, result, status)
+                status = self._failed(which, entry, result, status)
         return status
 
     def _failed(self, which: str, entry: ComponentEntry, result: Any,
