@@ -160,12 +160,12 @@ def compute_state_error(
         has_command: Command interface kind -> whether the controller commands it.
     """
     n = len(wraparound)
-    err = JointTrajectoryPoint(positions=[0.0] * n)
-    for i in range(n):
-        if wraparound[i]:
-            err.positions[i] = shortest_angular_distance(current.positions[i], desired.positions[i])
-        else:
-            err.positions[i] = desired.positions[i] - current.positions[i]
+    cur, des = current.positions, desired.positions
+    if any(wraparound):
+        positions = [shortest_angular_distance(cur[i], des[i]) if wraparound[i] else des[i] - cur[i] for i in range(n)]
+    else:  # no continuous joint: the common case, in every cycle
+        positions = [des[i] - cur[i] for i in range(n)]
+    err = JointTrajectoryPoint(positions=positions)
     if has_state["velocity"]:
         err.velocities = [0.0] * n
         # As upstream, the velocity error is only computed with a velocity or effort command, so

@@ -81,6 +81,7 @@ class GenericSystem(SystemInterface):
         self._warned_disabled = False
         #: What ``read`` does without ``calculate_dynamics``, prepared once: (kind, source, target, offset, gain).
         self._plan: list[tuple[int, Any, Any, float, float]] | None = None
+        self._plan_runs: list[tuple[int, list[tuple[Any, Any, float, float]]]] | None = None
 
     # ----------------------------------------------------------------- lifecycle
     def on_init(self, info: HardwareInfo) -> CallbackReturn:
@@ -141,6 +142,7 @@ class GenericSystem(SystemInterface):
                     self.set_state(name, self.get_state(name) + self.position_state_following_offset)
         self._joint_modes = [POSITION] * len(self.info.joints)
         self._plan = None
+        self._plan_runs = None
         return CallbackReturn.SUCCESS
 
     # ----------------------------------------------------------------- interfaces
@@ -389,25 +391,32 @@ class GenericSystem(SystemInterface):
         return plan
 
     def _run_plan(self) -> ReturnType:
-        plan = self._plan
-        if plan is None:
-            plan = self._plan = self._build_plan()
-        isfinite, isinf = math.isfinite, math.isinf
-        # the handles are the component's own: their values are read and written directly
-        for kind, source, target, offset, gain in plan:
-            value = source._value
-            if kind == 0:  # follow a command
-                if isfinite(value):
-                    target._value = value + offset
+        runs = self._plan_runs
+        if runs is None:
+            if self._plan is None:
+                self._plan = self._build_plan()
+            runs = self._plan_runs = _runs_of_one_kind(self._plan)
+        # the handles are the component's own: their values are read and written directly, a run of steps of one
+        # kind at a time (the order of the steps is kept: a mimic joint reads what the steps before it wrote)
+        for kind, steps in runs:
+            if kind == 0:  # follow a command, when it is finite (v - v is 0.0 exactly for finite numbers)
+                for source, target, offset, _gain in steps:
+                    value = source._value
+                    if value - value == 0.0:
+                        target._value = value + offset
             elif kind == 1:  # mirror a float command; an infinite one is an error, NaN leaves the state
-                if isinf(value):
-                    return ReturnType.ERROR
-                if value == value:
-                    target._value = value
+                for source, target, _offset, _gain in steps:
+                    value = source._value
+                    if value == value:
+                        if value - value != 0.0:
+                            return ReturnType.ERROR
+                        target._value = value
             elif kind == 2:
-                target._value = bool(value)
+                for source, target, _offset, _gain in steps:
+                    target._value = bool(source._value)
             else:  # a mimic joint
-                target._value = offset + gain * value
+                for source, target, offset, gain in steps:
+                    target._value = offset + gain * source._value
         return ReturnType.OK
 
     def _mirror_components(self, components: Sequence[ComponentInfo], every_state: bool) -> bool:
@@ -423,3 +432,15 @@ class GenericSystem(SystemInterface):
     def write(self, time: float, period: float) -> ReturnType:
         """Nothing to send: the mock's ``write`` always succeeds."""
         return ReturnType.OK
+
+
+def _runs_of_one_kind(
+    plan: list[tuple[int, Any, Any, float, float]],
+) -> list[tuple[int, list[tuple[Any, Any, float, float]]]]:
+    """The plan's steps grouped into consecutive runs of one kind, in their order."""
+    runs: list[tuple[int, list[tuple[Any, Any, float, float]]]] = []
+    for kind, source, target, offset, gain in plan:
+        if not runs or runs[-1][0] != kind:
+            runs.append((kind, []))
+        runs[-1][1].append((source, target, offset, gain))
+    return runs
