@@ -19,6 +19,7 @@ import enum
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
 
 from rrbot_workshop.msgs import JointTrajectory, JointTrajectoryPoint
 
@@ -149,6 +150,81 @@ def interpolate_between_points(
     return out
 
 
+#: From this many joints on, a linear segment is evaluated with numpy (the same IEEE operations, element by element).
+_NUMPY_FROM = 16
+
+
+class LinearSegment:
+    """One linear segment of :func:`interpolate_between_points`, its slopes worked out once.
+
+    A trajectory samples the same segment on many cycles (twice per cycle: the state and, one period ahead, the
+    command). The slopes depend on the segment only; each sample then costs one multiply-add per joint, done by
+    numpy from :data:`_NUMPY_FROM` joints on. The results are those of :func:`interpolate_between_points` bit for bit:
+    the same operations on the same doubles, in the same order.
+
+    Args:
+        t0: Time of the first waypoint in [s].
+        p0: First waypoint.
+        t1: Time of the second waypoint in [s].
+        p1: Second waypoint.
+    """
+
+    __slots__ = ("t0", "t1", "p0", "p1", "_dim", "_big_t", "_x0", "_slopes", "_e0", "_effort_slopes", "_np")
+
+    def __init__(self, t0: float, p0: JointTrajectoryPoint, t1: float, p1: JointTrajectoryPoint) -> None:
+        self.t0, self.t1, self.p0, self.p1 = t0, t1, p0, p1
+        dim = self._dim = len(p0.positions)
+        big_t = self._big_t = t1 - t0
+        x0, x1 = p0.positions, p1.positions
+        self._x0 = list(x0[:dim])
+        self._slopes = [(x1[i] - x0[i]) / big_t for i in range(dim)] if big_t != 0.0 else [0.0] * dim
+        self._e0: list[float] | None = None
+        self._effort_slopes: list[float] | None = None
+        if p0.effort and p1.effort:
+            e0, e1 = p0.effort, p1.effort
+            self._e0 = [e0[i] for i in range(dim)]
+            self._effort_slopes = [(e1[i] - e0[i]) / big_t for i in range(dim)] if big_t != 0.0 else None
+        self._np: tuple[Any, ...] | None = None
+        if dim >= _NUMPY_FROM:
+            import numpy as np
+
+            def arr(values: list[float] | None) -> Any:
+                return None if values is None else np.array(values, dtype=float)
+
+            self._np = (arr(self._x0), arr(self._slopes), arr(self._e0), arr(self._effort_slopes))
+
+    def matches(self, t0: float, p0: JointTrajectoryPoint, t1: float, p1: JointTrajectoryPoint) -> bool:
+        """Whether this is the segment from ``p0`` at ``t0`` to ``p1`` at ``t1`` (the same point objects)."""
+        return self.p0 is p0 and self.p1 is p1 and self.t0 == t0 and self.t1 == t1
+
+    def at(self, t: float) -> JointTrajectoryPoint:
+        """The state at time ``t``, clamped to the segment, as :func:`interpolate_between_points` gives it."""
+        dim, tau = self._dim, t - self.t0
+        if tau < 0.0:
+            tau = 0.0
+        if tau > self._big_t:
+            tau = self._big_t
+        if self._np is not None:
+            x0, slopes, e0, es = self._np
+            positions = (x0 + slopes * tau).tolist()
+            if e0 is None:
+                effort = [0.0] * dim
+            else:
+                effort = (e0 + es * tau).tolist() if es is not None else (e0 + 0.0).tolist()
+        else:
+            x0l, sl = self._x0, self._slopes
+            positions = [x0l[i] + sl[i] * tau for i in range(dim)]
+            e0l, esl = self._e0, self._effort_slopes
+            if e0l is None:
+                effort = [0.0] * dim
+            elif esl is not None:
+                effort = [e0l[i] + esl[i] * tau for i in range(dim)]
+            else:
+                effort = [e0l[i] + 0.0 for i in range(dim)]
+        return JointTrajectoryPoint(positions=positions, velocities=list(self._slopes), accelerations=[0.0] * dim,
+                                    effort=effort, time_from_start=t - self.t0)
+
+
 def deduce_from_derivatives(
     first: JointTrajectoryPoint, second: JointTrajectoryPoint, dim: int, delta_t: float
 ) -> None:
@@ -218,6 +294,7 @@ class Trajectory:
         self._sampled_already = False
         self._time_before = 0.0
         self._state_before = JointTrajectoryPoint()
+        self._segment: LinearSegment | None = None
         if trajectory_msg is not None:
             self.update(trajectory_msg)
         if current_time is not None and current_point is not None:
@@ -274,6 +351,18 @@ class Trajectory:
         return self._state_before
 
     # ----------------------------------------------------------------- sampling
+    def _interpolate(self, t0: float, p0: JointTrajectoryPoint, t1: float, p1: JointTrajectoryPoint,
+                     t: float) -> JointTrajectoryPoint:
+        """:func:`interpolate_between_points`, with a linear segment's slopes kept while it is sampled."""
+        tau = t - t0
+        spline = (bool(p0.velocities) and bool(p1.velocities)) or (bool(p0.accelerations) and bool(p1.accelerations))
+        if spline and 0.0 <= tau <= t1 - t0:
+            return interpolate_between_points(t0, p0, t1, p1, t)
+        segment = self._segment
+        if segment is None or not segment.matches(t0, p0, t1, p1):
+            segment = self._segment = LinearSegment(t0, p0, t1, p1)
+        return segment.at(t)
+
     def sample(self, sample_time: float, method: InterpolationMethod = InterpolationMethod.SPLINES) -> TrajectorySample | None:
         """The desired state at ``sample_time`` [s].
 
@@ -301,7 +390,7 @@ class Trajectory:
                 out = self._state_before.copy()
             else:
                 deduce_from_derivatives(self._state_before, first, dim, first_time - self._time_before)
-                out = interpolate_between_points(self._time_before, self._state_before, first_time, first, sample_time)
+                out = self._interpolate(self._time_before, self._state_before, first_time, first, sample_time)
             return TrajectorySample(out, 0, 0)
         for i in range(len(points) - 1):
             t0 = self._start_time + points[i].time_from_start
@@ -311,7 +400,7 @@ class Trajectory:
                     out = points[i + 1].copy()
                 else:
                     deduce_from_derivatives(points[i], points[i + 1], dim, t1 - t0)
-                    out = interpolate_between_points(t0, points[i], t1, points[i + 1], sample_time)
+                    out = self._interpolate(t0, points[i], t1, points[i + 1], sample_time)
                 out.time_from_start = points[i + 1].time_from_start
                 return TrajectorySample(out, i, i + 1)
         # the whole trajectory has played out: hold the last waypoint

@@ -114,3 +114,23 @@ def test_lazily_built_messages_keep_the_numbers_of_their_cycle(system: rw.System
     assert positions == [[0.3, -0.2], [0.3, -0.2], [0.5, 0.1], [0.5, 0.1]]
     stamps = [m.header.stamp for m in history[-4:]]
     assert stamps == sorted(stamps) and len(set(stamps)) == 4
+
+
+@pytest.mark.parametrize("dim", [2, 40])  # the list path and the numpy path
+@pytest.mark.parametrize("with_effort", [False, True])
+def test_a_kept_linear_segment_samples_exactly_as_the_general_interpolation(dim: int, with_effort: bool) -> None:
+    import random
+
+    from rrbot_workshop.controllers.trajectory import LinearSegment, interpolate_between_points
+    from rrbot_workshop.msgs import JointTrajectoryPoint
+
+    rng = random.Random(7)
+    for t0, t1 in ((0.25, 1.75), (1.0, 1.0)):  # a segment, and one of zero length
+        p0 = JointTrajectoryPoint(positions=[rng.uniform(-3, 3) for _ in range(dim)],
+                                  effort=[rng.uniform(-5, 5) for _ in range(dim)] if with_effort else [])
+        p1 = JointTrajectoryPoint(positions=[rng.uniform(-3, 3) for _ in range(dim)],
+                                  effort=[rng.uniform(-5, 5) for _ in range(dim)] if with_effort else [])
+        segment = LinearSegment(t0, p0, t1, p1)
+        assert segment.matches(t0, p0, t1, p1) and not segment.matches(t0, p1, t1, p0)
+        for t in (t0 - 0.3, t0, t0 + 0.013, (t0 + t1) / 2, t1 - 1e-9, t1, t1 + 2.0):
+            assert segment.at(t) == interpolate_between_points(t0, p0, t1, p1, t), f"differs at t = {t}"
