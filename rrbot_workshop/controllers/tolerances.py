@@ -16,7 +16,7 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
-from rrbot_workshop.controllers.trajectory import shortest_angular_distance
+from rrbot_workshop.controllers.interpolation import shortest_angular_distance
 from rrbot_workshop.msgs import JointTolerance, JointTrajectoryPoint
 
 __all__ = [

@@ -9,24 +9,31 @@ The polynomial used for a segment depends on which fields *both* of its waypoint
 ros2_controllers: positions only -> linear, positions and velocities -> cubic, positions,
 velocities and accelerations -> quintic. Efforts, when present, are interpolated linearly. A waypoint
 given only as velocities or accelerations gets the missing fields integrated with Heun's rule
-(trapezoids) from the previous waypoint (see :func:`deduce_from_derivatives`).
+(trapezoids) from the previous waypoint (see :func:`deduce_from_derivatives`). The math of one segment is in
+:mod:`rrbot_workshop.controllers.interpolation`.
 """
 
 from __future__ import annotations
 
 import copy
 import enum
-import math
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any
 
+from rrbot_workshop.controllers.interpolation import (
+    LinearSegment,
+    deduce_from_derivatives,
+    interpolate_between_points,
+    shortest_angular_distance,
+    wraparound_joint,
+)
 from rrbot_workshop.msgs import JointTrajectory, JointTrajectoryPoint
 
 __all__ = [
     "InterpolationMethod",
     "TrajectorySample",
     "Trajectory",
+    "LinearSegment",
     "interpolate_between_points",
     "deduce_from_derivatives",
     "wraparound_joint",
@@ -39,221 +46,6 @@ class InterpolationMethod(enum.Enum):
 
     SPLINES = "splines"
     NONE = "none"
-
-
-def shortest_angular_distance(from_angle: float, to_angle: float) -> float:
-    """Signed angle in [rad] from ``from_angle`` to ``to_angle``, within [-pi, pi] (as ``angles`` does)."""
-    diff = math.fmod(to_angle - from_angle, 2.0 * math.pi)
-    if diff > math.pi:
-        diff -= 2.0 * math.pi
-    elif diff < -math.pi:
-        diff += 2.0 * math.pi
-    return diff
-
-
-def wraparound_joint(current: list[float], target: Sequence[float], wraparound: Sequence[bool]) -> None:
-    """Shift each continuous joint of ``current`` by whole turns so it is closest to ``target`` (in place)."""
-    for i, wrap in enumerate(wraparound):
-        if wrap and i < len(current) and i < len(target):
-            dist = shortest_angular_distance(current[i], target[i])
-            if abs(abs(dist) - math.pi) < 1e-9:  # exactly half a turn: go the way the numbers go
-                dist = abs(dist) if target[i] > current[i] else -abs(dist)
-            current[i] = target[i] - dist
-
-
-def _powers(x: float, n: int) -> list[float]:
-    out = [1.0]
-    for _ in range(n):
-        out.append(out[-1] * x)
-    return out
-
-
-def interpolate_between_points(
-    t0: float, p0: JointTrajectoryPoint, t1: float, p1: JointTrajectoryPoint, t: float
-) -> JointTrajectoryPoint:
-    """The state at time ``t`` on the spline from waypoint ``p0`` (at ``t0``) to ``p1`` (at ``t1``).
-
-    Linear, cubic or quintic depending on whether both waypoints carry velocities and accelerations.
-    Outside ``[t0, t1]`` the time is clamped to the nearer end and a linear blend is used.
-
-    Args:
-        t0: Time of the first waypoint in [s].
-        p0: First waypoint (positions required).
-        t1: Time of the second waypoint in [s].
-        p1: Second waypoint (positions required).
-        t: Sample time in [s].
-
-    Returns:
-        A point with positions [rad], velocities [rad/s], accelerations [rad/s^2] and efforts, all of
-        the joint count; ``time_from_start`` is ``t - t0``.
-    """
-    dim = len(p0.positions)
-    big_t = t1 - t0
-    tau = t - t0
-    has_vel = bool(p0.velocities) and bool(p1.velocities)
-    has_acc = bool(p0.accelerations) and bool(p1.accelerations)
-    if tau < 0.0:
-        tau = 0.0
-        has_vel = has_acc = False
-    if tau > big_t:
-        tau = big_t
-        has_vel = has_acc = False
-    zeros = [0.0] * dim
-    effort = zeros
-    if p0.effort and p1.effort:
-        e0, e1 = p0.effort, p1.effort
-        if big_t != 0.0:
-            effort = [e0[i] + (e1[i] - e0[i]) / big_t * tau for i in range(dim)]
-        else:  # a zero slope: e0 + 0.0 (which also turns -0.0 into 0.0, as the general formula does)
-            effort = [e0[i] + 0.0 for i in range(dim)]
-    if not has_vel and not has_acc:  # linear: the common case of a goal given by positions only
-        pos0, pos1 = p0.positions, p1.positions
-        slopes = [(pos1[i] - pos0[i]) / big_t for i in range(dim)] if big_t != 0.0 else list(zeros)
-        return JointTrajectoryPoint(positions=[pos0[i] + slopes[i] * tau for i in range(dim)], velocities=slopes,
-                                    accelerations=list(zeros), effort=effort if effort is not zeros else list(zeros),
-                                    time_from_start=t - t0)
-    tt = _powers(tau, 5)
-    out = JointTrajectoryPoint(positions=list(zeros), velocities=list(zeros), accelerations=list(zeros),
-                               effort=effort if effort is not zeros else list(zeros), time_from_start=t - t0)
-    if has_vel and not has_acc:
-        T = _powers(big_t, 3)
-        for i in range(dim):
-            x0, v0, x1, v1 = p0.positions[i], p0.velocities[i], p1.positions[i], p1.velocities[i]
-            c2 = c3 = 0.0
-            if big_t != 0.0:
-                c2 = (-3.0 * x0 + 3.0 * x1 - 2.0 * v0 * T[1] - v1 * T[1]) / T[2]
-                c3 = (2.0 * x0 - 2.0 * x1 + v0 * T[1] + v1 * T[1]) / T[3]
-            out.positions[i] = x0 + v0 * tt[1] + c2 * tt[2] + c3 * tt[3]
-            out.velocities[i] = v0 + 2.0 * c2 * tt[1] + 3.0 * c3 * tt[2]
-            out.accelerations[i] = 2.0 * c2 + 6.0 * c3 * tt[1]
-    else:
-        # Quintic. ros2_controllers has no branch for "accelerations but no velocities" and returns
-        # zeros for such a segment (a jump to 0 rad); here missing velocities count as 0 rad/s instead.
-        T = _powers(big_t, 5)
-        for i in range(dim):
-            x0, v0, a0 = p0.positions[i], p0.velocities[i] if p0.velocities else 0.0, p0.accelerations[i]
-            x1, v1, a1 = p1.positions[i], p1.velocities[i] if p1.velocities else 0.0, p1.accelerations[i]
-            c = [x0, v0, 0.5 * a0, 0.0, 0.0, 0.0]
-            if big_t != 0.0:
-                c[3] = (-20.0 * x0 + 20.0 * x1 - 3.0 * a0 * T[2] + a1 * T[2] - 12.0 * v0 * T[1] - 8.0 * v1 * T[1]) / (
-                    2.0 * T[3]
-                )
-                c[4] = (30.0 * x0 - 30.0 * x1 + 3.0 * a0 * T[2] - 2.0 * a1 * T[2] + 16.0 * v0 * T[1] + 14.0 * v1 * T[1]) / (
-                    2.0 * T[4]
-                )
-                c[5] = (-12.0 * x0 + 12.0 * x1 - a0 * T[2] + a1 * T[2] - 6.0 * v0 * T[1] - 6.0 * v1 * T[1]) / (
-                    2.0 * T[5]
-                )
-            out.positions[i] = sum(c[k] * tt[k] for k in range(6))
-            out.velocities[i] = sum(k * c[k] * tt[k - 1] for k in range(1, 6))
-            out.accelerations[i] = sum(k * (k - 1) * c[k] * tt[k - 2] for k in range(2, 6))
-    return out
-
-
-#: From this many joints on, a linear segment is evaluated with numpy (the same IEEE operations, element by element).
-_NUMPY_FROM = 16
-
-
-class LinearSegment:
-    """One linear segment of :func:`interpolate_between_points`, its slopes worked out once.
-
-    A trajectory samples the same segment on many cycles (twice per cycle: the state and, one period ahead, the
-    command). The slopes depend on the segment only; each sample then costs one multiply-add per joint, done by
-    numpy from :data:`_NUMPY_FROM` joints on. The results are those of :func:`interpolate_between_points` bit for bit:
-    the same operations on the same doubles, in the same order.
-
-    Args:
-        t0: Time of the first waypoint in [s].
-        p0: First waypoint.
-        t1: Time of the second waypoint in [s].
-        p1: Second waypoint.
-    """
-
-    __slots__ = ("t0", "t1", "p0", "p1", "_dim", "_big_t", "_x0", "_slopes", "_e0", "_effort_slopes", "_np")
-
-    def __init__(self, t0: float, p0: JointTrajectoryPoint, t1: float, p1: JointTrajectoryPoint) -> None:
-        self.t0, self.t1, self.p0, self.p1 = t0, t1, p0, p1
-        dim = self._dim = len(p0.positions)
-        big_t = self._big_t = t1 - t0
-        x0, x1 = p0.positions, p1.positions
-        self._x0 = list(x0[:dim])
-        self._slopes = [(x1[i] - x0[i]) / big_t for i in range(dim)] if big_t != 0.0 else [0.0] * dim
-        self._e0: list[float] | None = None
-        self._effort_slopes: list[float] | None = None
-        if p0.effort and p1.effort:
-            e0, e1 = p0.effort, p1.effort
-            self._e0 = [e0[i] for i in range(dim)]
-            self._effort_slopes = [(e1[i] - e0[i]) / big_t for i in range(dim)] if big_t != 0.0 else None
-        self._np: tuple[Any, ...] | None = None
-        if dim >= _NUMPY_FROM:
-            import numpy as np
-
-            def arr(values: list[float] | None) -> Any:
-                return None if values is None else np.array(values, dtype=float)
-
-            self._np = (arr(self._x0), arr(self._slopes), arr(self._e0), arr(self._effort_slopes))
-
-    def matches(self, t0: float, p0: JointTrajectoryPoint, t1: float, p1: JointTrajectoryPoint) -> bool:
-        """Whether this is the segment from ``p0`` at ``t0`` to ``p1`` at ``t1`` (the same point objects)."""
-        return self.p0 is p0 and self.p1 is p1 and self.t0 == t0 and self.t1 == t1
-
-    def at(self, t: float) -> JointTrajectoryPoint:
-        """The state at time ``t``, clamped to the segment, as :func:`interpolate_between_points` gives it."""
-        dim, tau = self._dim, t - self.t0
-        if tau < 0.0:
-            tau = 0.0
-        if tau > self._big_t:
-            tau = self._big_t
-        if self._np is not None:
-            x0, slopes, e0, es = self._np
-            positions = (x0 + slopes * tau).tolist()
-            if e0 is None:
-                effort = [0.0] * dim
-            else:
-                effort = (e0 + es * tau).tolist() if es is not None else (e0 + 0.0).tolist()
-        else:
-            x0l, sl = self._x0, self._slopes
-            positions = [x0l[i] + sl[i] * tau for i in range(dim)]
-            e0l, esl = self._e0, self._effort_slopes
-            if e0l is None:
-                effort = [0.0] * dim
-            elif esl is not None:
-                effort = [e0l[i] + esl[i] * tau for i in range(dim)]
-            else:
-                effort = [e0l[i] + 0.0 for i in range(dim)]
-        return JointTrajectoryPoint(positions=positions, velocities=list(self._slopes), accelerations=[0.0] * dim,
-                                    effort=effort, time_from_start=t - self.t0)
-
-
-def deduce_from_derivatives(
-    first: JointTrajectoryPoint, second: JointTrajectoryPoint, dim: int, delta_t: float
-) -> None:
-    """Fill a waypoint given without positions by integrating from the previous one (in place).
-
-    Velocities missing on ``second`` come from the trapezoid of the two accelerations; its positions
-    from the trapezoid of the two velocities. Missing fields of ``first`` count as zero. Efforts
-    missing on either point become zeros. Nothing changes when ``second`` has positions.
-
-    Args:
-        first: The earlier waypoint (or the state before the trajectory).
-        second: The later waypoint.
-        dim: Number of joints.
-        delta_t: Time between the two in [s].
-    """
-    if not first.effort:
-        first.effort = [0.0] * dim
-    if not second.effort:
-        second.effort = [0.0] * dim
-    if second.positions:
-        return
-    if not first.velocities:
-        first.velocities = [0.0] * dim
-    if not second.velocities:
-        if not first.accelerations:
-            first.accelerations = [0.0] * dim
-        acc2 = second.accelerations or [0.0] * dim
-        second.velocities = [first.velocities[i] + (first.accelerations[i] + acc2[i]) * 0.5 * delta_t for i in range(dim)]
-    second.positions = [first.positions[i] + (first.velocities[i] + second.velocities[i]) * 0.5 * delta_t for i in range(dim)]
 
 
 @dataclass
