@@ -18,6 +18,7 @@ from rrbot_workshop.msgs import JointTrajectoryPoint
 
 __all__ = [
     "LinearSegment",
+    "is_spline",
     "interpolate_between_points",
     "deduce_from_derivatives",
     "wraparound_joint",
@@ -52,6 +53,15 @@ def _powers(x: float, n: int) -> list[float]:
     return out
 
 
+def is_spline(p0: JointTrajectoryPoint, p1: JointTrajectoryPoint, tau: float, big_t: float) -> bool:
+    """Whether the segment from ``p0`` to ``p1`` (``big_t`` [s] long) is a spline at ``tau`` [s] into it: both
+    waypoints carry velocities or both carry accelerations, and ``tau`` lies within the segment (outside it, and
+    otherwise, the state is a linear blend)."""
+    has_vel = bool(p0.velocities) and bool(p1.velocities)
+    has_acc = bool(p0.accelerations) and bool(p1.accelerations)
+    return (has_vel or has_acc) and 0.0 <= tau <= big_t
+
+
 def interpolate_between_points(
     t0: float, p0: JointTrajectoryPoint, t1: float, p1: JointTrajectoryPoint, t: float
 ) -> JointTrajectoryPoint:
@@ -71,34 +81,16 @@ def interpolate_between_points(
         A point with positions [rad], velocities [rad/s], accelerations [rad/s^2] and efforts, all of
         the joint count; ``time_from_start`` is ``t - t0``.
     """
-    dim = len(p0.positions)
-    big_t = t1 - t0
-    tau = t - t0
+    # the linear blend gives the efforts on every segment, and the whole state outside [t0, t1] or without
+    # velocities and accelerations on both waypoints
+    out = LinearSegment(t0, p0, t1, p1).at(t)
+    big_t, tau = t1 - t0, t - t0
+    if not is_spline(p0, p1, tau, big_t):
+        return out
     has_vel = bool(p0.velocities) and bool(p1.velocities)
     has_acc = bool(p0.accelerations) and bool(p1.accelerations)
-    if tau < 0.0:
-        tau = 0.0
-        has_vel = has_acc = False
-    if tau > big_t:
-        tau = big_t
-        has_vel = has_acc = False
-    zeros = [0.0] * dim
-    effort = zeros
-    if p0.effort and p1.effort:
-        e0, e1 = p0.effort, p1.effort
-        if big_t != 0.0:
-            effort = [e0[i] + (e1[i] - e0[i]) / big_t * tau for i in range(dim)]
-        else:  # a zero slope: e0 + 0.0 (which also turns -0.0 into 0.0, as the general formula does)
-            effort = [e0[i] + 0.0 for i in range(dim)]
-    if not has_vel and not has_acc:  # linear: the common case of a goal given by positions only
-        pos0, pos1 = p0.positions, p1.positions
-        slopes = [(pos1[i] - pos0[i]) / big_t for i in range(dim)] if big_t != 0.0 else list(zeros)
-        return JointTrajectoryPoint(positions=[pos0[i] + slopes[i] * tau for i in range(dim)], velocities=slopes,
-                                    accelerations=list(zeros), effort=effort if effort is not zeros else list(zeros),
-                                    time_from_start=t - t0)
+    dim = len(p0.positions)
     tt = _powers(tau, 5)
-    out = JointTrajectoryPoint(positions=list(zeros), velocities=list(zeros), accelerations=list(zeros),
-                               effort=effort if effort is not zeros else list(zeros), time_from_start=t - t0)
     if has_vel and not has_acc:
         T = _powers(big_t, 3)
         for i in range(dim):
@@ -139,12 +131,13 @@ _NUMPY_FROM = 16
 
 
 class LinearSegment:
-    """One linear segment of :func:`interpolate_between_points`, its slopes worked out once.
+    """A linear segment between two waypoints, its slopes worked out once (the linear blend of
+    :func:`interpolate_between_points`).
 
     A trajectory samples the same segment on many cycles (twice per cycle: the state and, one period ahead, the
     command). The slopes depend on the segment only; each sample then costs one multiply-add per joint, done by
-    numpy from :data:`_NUMPY_FROM` joints on. The results are those of :func:`interpolate_between_points` bit for bit:
-    the same operations on the same doubles, in the same order.
+    numpy from :data:`_NUMPY_FROM` joints on, with the same operations on the same doubles in the same order as the
+    list path: the samples are bit-identical either way.
 
     Args:
         t0: Time of the first waypoint in [s].
@@ -182,7 +175,8 @@ class LinearSegment:
         return self.p0 is p0 and self.p1 is p1 and self.t0 == t0 and self.t1 == t1
 
     def at(self, t: float) -> JointTrajectoryPoint:
-        """The state at time ``t``, clamped to the segment, as :func:`interpolate_between_points` gives it."""
+        """The state at time ``t`` (clamped to the segment): positions and efforts blended, velocities the slopes,
+        accelerations 0."""
         dim, tau = self._dim, t - self.t0
         if tau < 0.0:
             tau = 0.0

@@ -24,6 +24,7 @@ from rrbot_workshop.controllers.interpolation import (
     LinearSegment,
     deduce_from_derivatives,
     interpolate_between_points,
+    is_spline,
     shortest_angular_distance,
     wraparound_joint,
 )
@@ -146,9 +147,7 @@ class Trajectory:
     def _interpolate(self, t0: float, p0: JointTrajectoryPoint, t1: float, p1: JointTrajectoryPoint,
                      t: float) -> JointTrajectoryPoint:
         """:func:`interpolate_between_points`, with a linear segment's slopes kept while it is sampled."""
-        tau = t - t0
-        spline = (bool(p0.velocities) and bool(p1.velocities)) or (bool(p0.accelerations) and bool(p1.accelerations))
-        if spline and 0.0 <= tau <= t1 - t0:
+        if is_spline(p0, p1, t - t0, t1 - t0):
             return interpolate_between_points(t0, p0, t1, p1, t)
         segment = self._segment
         if segment is None or not segment.matches(t0, p0, t1, p1):

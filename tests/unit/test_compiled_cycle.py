@@ -116,9 +116,26 @@ def test_lazily_built_messages_keep_the_numbers_of_their_cycle(system: rw.System
     assert stamps == sorted(stamps) and len(set(stamps)) == 4
 
 
+def _linear_blend(t0: float, p0: object, t1: float, p1: object, t: float) -> tuple[list[float], ...]:
+    """The linear blend written out in plain Python floats, one joint at a time: the reference."""
+    dim, big_t = len(p0.positions), t1 - t0  # type: ignore[attr-defined]
+    tau = min(max(t - t0, 0.0), big_t)
+    x0, x1 = p0.positions, p1.positions  # type: ignore[attr-defined]
+    slopes = [(x1[i] - x0[i]) / big_t if big_t != 0.0 else 0.0 for i in range(dim)]
+    positions = [x0[i] + slopes[i] * tau for i in range(dim)]
+    e0, e1 = p0.effort, p1.effort  # type: ignore[attr-defined]
+    if not (e0 and e1):
+        effort = [0.0] * dim
+    elif big_t != 0.0:
+        effort = [e0[i] + (e1[i] - e0[i]) / big_t * tau for i in range(dim)]
+    else:
+        effort = [e0[i] + 0.0 for i in range(dim)]
+    return positions, slopes, [0.0] * dim, effort
+
+
 @pytest.mark.parametrize("dim", [2, 40])  # the list path and the numpy path
 @pytest.mark.parametrize("with_effort", [False, True])
-def test_a_kept_linear_segment_samples_exactly_as_the_general_interpolation(dim: int, with_effort: bool) -> None:
+def test_a_kept_linear_segment_samples_exactly_the_linear_blend(dim: int, with_effort: bool) -> None:
     import random
 
     from rrbot_workshop.controllers.trajectory import LinearSegment, interpolate_between_points
@@ -133,4 +150,9 @@ def test_a_kept_linear_segment_samples_exactly_as_the_general_interpolation(dim:
         segment = LinearSegment(t0, p0, t1, p1)
         assert segment.matches(t0, p0, t1, p1) and not segment.matches(t0, p1, t1, p0)
         for t in (t0 - 0.3, t0, t0 + 0.013, (t0 + t1) / 2, t1 - 1e-9, t1, t1 + 2.0):
-            assert segment.at(t) == interpolate_between_points(t0, p0, t1, p1, t), f"differs at t = {t}"
+            sample = segment.at(t)
+            positions, velocities, accelerations, effort = _linear_blend(t0, p0, t1, p1, t)
+            assert (sample.positions, sample.velocities, sample.accelerations, sample.effort) == \
+                (positions, velocities, accelerations, effort), f"differs at t = {t}"
+            assert sample.time_from_start == t - t0
+            assert interpolate_between_points(t0, p0, t1, p1, t) == sample, f"the general interpolation differs at {t}"
