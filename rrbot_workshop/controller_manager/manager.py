@@ -317,11 +317,8 @@ class ControllerManager:
         """Read all hardware; controllers using failed hardware are deactivated."""
         status = self.resource_manager.read_cycle(time, period)
         if status is not None:
-            self._hardware_read_failed(status)
-
-    def _hardware_read_failed(self, status: Any) -> None:
-        controller_loop.hardware_failed(self, status.failed_hardware_names, "read")
-        self.activity.check()
+            controller_loop.hardware_failed(self, status.failed_hardware_names, "read")
+            self.activity.check()
 
     def write(self, time: float, period: float) -> None:
         """Write all hardware (commands limited first if ``enforce_command_limits``); controllers using failed
@@ -330,18 +327,15 @@ class ControllerManager:
             self.resource_manager.enforce_command_limits(period)
         status = self.resource_manager.write_cycle(time, period)
         if status is not None:
-            self._hardware_write_failed(status)
-
-    def _hardware_write_failed(self, status: Any) -> None:
-        rm = self.resource_manager
-        # a component left INACTIVE deactivated itself (DEACTIVATE); one that failed went through error()
-        quiet = [h for h in status.failed_hardware_names if rm.get_component(h).get_lifecycle_state() is State.INACTIVE]
-        failed = [h for h in status.failed_hardware_names if h not in quiet]
-        if failed:
-            controller_loop.hardware_failed(self, failed, "write")
-        if quiet and self.deactivate_controllers_on_hardware_self_deactivate:
-            controller_loop.hardware_failed(self, quiet, "write", commanders_only=True)
-        self.activity.check()
+            rm = self.resource_manager
+            # a component left INACTIVE deactivated itself (DEACTIVATE); one that failed went through error()
+            quiet = [h for h in status.failed_hardware_names if rm.get_component(h).get_lifecycle_state() is State.INACTIVE]
+            failed = [h for h in status.failed_hardware_names if h not in quiet]
+            if failed:
+                controller_loop.hardware_failed(self, failed, "write")
+            if quiet and self.deactivate_controllers_on_hardware_self_deactivate:
+                controller_loop.hardware_failed(self, quiet, "write", commanders_only=True)
+            self.activity.check()
 
     def update_controllers(self, time: float, period: float) -> None:
         """Update each active controller that is due, in chain order.
@@ -363,16 +357,9 @@ class ControllerManager:
             period: Time since the previous cycle in [s].
         """
         self.bus.deliver()
-        rm = self.resource_manager
-        status = rm.read_cycle(time, period)
-        if status is not None:
-            self._hardware_read_failed(status)
+        self.read(time, period)
         self._loop.update(time, period)
-        if self.enforce_command_limits:
-            rm.enforce_command_limits(period)
-        status = rm.write_cycle(time, period)
-        if status is not None:
-            self._hardware_write_failed(status)
+        self.write(time, period)
         if self._hooks:
             for hook in list(self._hooks):
                 try:
