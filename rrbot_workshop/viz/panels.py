@@ -246,7 +246,7 @@ class TrajectoryPanel:
 
     def send(self, run: bool = True) -> list[float]:
         """Send the sliders' positions as one goal reached in ``duration``; run until then (plus 0.5 s), unless the
-        system spins in the background (then the robot moves by itself and the status shows where it is now).
+        system spins in the background (then the background loop moves the robot, and the status says where it started).
 
         Returns:
             The joints' positions afterwards (those of the controller's joints in ``/joint_states``).
