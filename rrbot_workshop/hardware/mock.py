@@ -80,7 +80,7 @@ class GenericSystem(SystemInterface):
         self._joint_modes: list[str] = []
         self._warned_disabled = False
         #: What ``read`` does without ``calculate_dynamics``, prepared once: (kind, source, target, offset, gain).
-        self._plan: list[tuple[int, Any, Any, float, float]] | None = None
+        #: The prepared read (see _build_plan), as runs of steps of one kind; None until the first read.
         self._plan_runs: list[tuple[int, list[tuple[Any, Any, float, float]]]] | None = None
 
     # ----------------------------------------------------------------- lifecycle
@@ -141,7 +141,6 @@ class GenericSystem(SystemInterface):
                 if itf.name == POSITION and not self.custom_interface_with_following_offset:
                     self.set_state(name, self.get_state(name) + self.position_state_following_offset)
         self._joint_modes = [POSITION] * len(self.info.joints)
-        self._plan = None
         self._plan_runs = None
         return CallbackReturn.SUCCESS
 
@@ -393,9 +392,7 @@ class GenericSystem(SystemInterface):
     def _run_plan(self) -> ReturnType:
         runs = self._plan_runs
         if runs is None:
-            if self._plan is None:
-                self._plan = self._build_plan()
-            runs = self._plan_runs = _runs_of_one_kind(self._plan)
+            runs = self._plan_runs = _runs_of_one_kind(self._build_plan())
         # the handles are the component's own: their values are read and written directly, a run of steps of one
         # kind at a time (the order of the steps is kept: a mimic joint reads what the steps before it wrote)
         for kind, steps in runs:
