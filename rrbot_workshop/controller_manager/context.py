@@ -46,11 +46,6 @@ class ManagerContext(Protocol):
     update_rate: int
     robot_description: str
     handle_exceptions: bool
-    #: The registry itself and its update order, for the control loop's fast path.
-    _controllers: dict[str, ControllerSpec]
-    @property
-    def _order(self) -> list[str]: ...
-
     @property
     def activity(self) -> ActivitySink: ...
 

@@ -152,11 +152,6 @@ class ControllerManager:
         return list(self._chains.order)
 
     @property
-    def _order(self) -> list[str]:
-        """The chain graph's update order (collaborators read it; the graph owns it)."""
-        return self._chains.order
-
-    @property
     def handle_exceptions(self) -> bool:
         """ros2_control's ``handle_exceptions``: catch what a controller's ``update`` raises (the loop's flag)."""
         return self._loop.handle_exceptions
@@ -378,7 +373,7 @@ class ControllerManager:
 
     def controller_statistics(self) -> dict[str, ControllerStatistics]:
         """Each loaded controller's update periods [s] and execution times [µs] since its last activation."""
-        return {name: self._controllers[name].statistics for name in self._order}
+        return {name: self._controllers[name].statistics for name in self._chains.order}
 
     def list_hardware_components(self) -> list[HardwareComponentState]:
         """``HardwareComponentState`` of each hardware component."""
@@ -417,9 +412,9 @@ class ControllerManager:
 
     def shutdown(self) -> None:
         """Deactivate every active controller (in update order) and unload them all."""
-        for name in [n for n in self._order if self._controllers[n].state is State.ACTIVE]:
+        for name in [n for n in self._chains.order if self._controllers[n].state is State.ACTIVE]:
             deactivate_controller(self.resource_manager, self._controllers[name])
-        for name in reversed(list(self._order)):
+        for name in reversed(list(self._chains.order)):
             try:
                 self.unload_controller(name)
             except (ControllerError, LifecycleError) as exc:
