@@ -22,11 +22,14 @@ from rrbot_workshop.controller_manager.chains import ChainGraph
 from rrbot_workshop.controller_manager.claims import deactivate_controller
 from rrbot_workshop.controller_manager.context import ManagerContext
 from rrbot_workshop.controller_manager.spec import ControllerSpec
+from rrbot_workshop.controller_manager.statistics import ControllerStatistics
 from rrbot_workshop.exceptions import ControllerError, SwitchError
 from rrbot_workshop.middleware.clock import rate_due
 from rrbot_workshop.middleware.lifecycle import TRANSITIONS, ReturnType, State
 
 __all__ = ["ControllerLoop", "controllers_failed", "hardware_failed"]
+
+FOLD_EVERY = ControllerStatistics.FOLD_EVERY
 
 # The controller manager's messages keep the logger name they had before it was split into modules.
 _log = logging.getLogger("rrbot_workshop.controller_manager.manager")
@@ -57,7 +60,7 @@ class ControllerLoop:
         self.update_rate = update_rate
         self._on_failed = on_failed
         self.handle_exceptions = handle_exceptions
-        self._plan: list[tuple[str, ControllerSpec, ControllerInterface, int]] = []
+        self._plan: list[tuple[str, ControllerSpec, ControllerInterface, int, ControllerStatistics]] = []
         self._built_for: tuple[int, int] = (-1, -1)
 
     def _build(self) -> None:
@@ -68,7 +71,7 @@ class ControllerLoop:
             ctrl = spec.controller
             if ctrl._state is State.ACTIVE:  # noqa: SLF001 - the loop reads the lifecycle state the cycle relies on
                 rate = ctrl._update_rate or cm_rate  # noqa: SLF001
-                plan.append((name, spec, ctrl, rate if rate < cm_rate else 0))
+                plan.append((name, spec, ctrl, rate if rate < cm_rate else 0, spec.statistics))
         self._plan = plan
         self._built_for = (TRANSITIONS.value, self._chains.version)
 
@@ -84,7 +87,7 @@ class ControllerLoop:
         failed: list[str] | None = None
         active, ok = State.ACTIVE, ReturnType.OK
         clock = perf_counter
-        for name, spec, ctrl, slow in self._plan:
+        for name, spec, ctrl, slow, stats in self._plan:
             if ctrl._state is not active:  # noqa: SLF001 - changed during this cycle
                 continue
             last = spec.last_update_time
@@ -94,7 +97,6 @@ class ControllerLoop:
                 continue
             else:  # Jazzy: a slower controller's first update gets its own nominal period, 1/rate
                 ctrl_period = 1.0 / slow if last is None else time - last
-            stats = spec.statistics
             if last is None:
                 stats.reset()
             spec.last_update_time = time
@@ -106,7 +108,10 @@ class ControllerLoop:
                     raise
                 _log.error("update of controller '%s' raised:\n%s", name, traceback.format_exc())
                 result = ReturnType.ERROR
-            stats.record((clock() - started) * 1e6, ctrl_period)
+            pending = stats.pending  # ControllerStatistics.record, inline: one append per update
+            pending.append(((clock() - started) * 1e6, ctrl_period))
+            if len(pending) >= FOLD_EVERY:
+                stats.fold()
             if result is not ok:
                 if result is not ReturnType.ERROR:
                     _log.error("update of controller '%s' returned %r", name, result)

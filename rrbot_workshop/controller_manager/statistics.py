@@ -13,7 +13,7 @@ ros2_control (Kilted and later) publishes the execution time and periodicity of 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 __all__ = ["RunningStats", "ControllerStatistics"]
 
@@ -44,38 +44,60 @@ class RunningStats:
         return self.total / self.count if self.count else math.nan
 
 
-@dataclass
 class ControllerStatistics:
     """The timing of one controller's updates since its last activation.
 
+    The cycle only appends each update's two figures to :attr:`pending` (one tuple: the cheapest record Python
+    has); they are folded into the running figures, in the order they came, when someone reads :attr:`period` or
+    :attr:`execution_time`, or when ``FOLD_EVERY`` of them have piled up (memory stays bounded in a long run).
+
     Attributes:
-        period: The ``period`` passed to ``update`` in [s].
-        execution_time: Wall-clock duration of ``update`` in [µs].
+        pending: ``(execution_us, period)`` of the updates not folded in yet.
     """
 
-    period: RunningStats = field(default_factory=RunningStats)
-    execution_time: RunningStats = field(default_factory=RunningStats)
+    FOLD_EVERY = 4096
+
+    __slots__ = ("_period", "_execution_time", "pending")
+
+    def __init__(self) -> None:
+        self._period = RunningStats()
+        self._execution_time = RunningStats()
+        self.pending: list[tuple[float, float]] = []
+
+    @property
+    def period(self) -> RunningStats:
+        """The ``period`` passed to ``update`` in [s]."""
+        if self.pending:
+            self.fold()
+        return self._period
+
+    @property
+    def execution_time(self) -> RunningStats:
+        """Wall-clock duration of ``update`` in [µs]."""
+        if self.pending:
+            self.fold()
+        return self._execution_time
 
     def record(self, execution_us: float, period: float) -> None:
-        """Account for one update: its execution time [µs] and the period it received [s] (inline: it runs in every
-        cycle for every controller)."""
-        e, p = self.execution_time, self.period
-        e.count += 1
-        e.total += execution_us
-        e.last = execution_us
-        if execution_us < e.minimum:
-            e.minimum = execution_us
-        if execution_us > e.maximum:
-            e.maximum = execution_us
-        p.count += 1
-        p.total += period
-        p.last = period
-        if period < p.minimum:
-            p.minimum = period
-        if period > p.maximum:
-            p.maximum = period
+        """Account for one update: its execution time [µs] and the period it received [s]."""
+        pending = self.pending
+        pending.append((execution_us, period))
+        if len(pending) >= self.FOLD_EVERY:
+            self.fold()
+
+    def fold(self) -> None:
+        """Fold the pending figures into the running ones, oldest first."""
+        add_e, add_p = self._execution_time.add, self._period.add
+        for execution_us, period in self.pending:
+            add_e(execution_us)
+            add_p(period)
+        self.pending.clear()
 
     def reset(self) -> None:
         """Start over (at activation)."""
-        self.period = RunningStats()
-        self.execution_time = RunningStats()
+        self._period = RunningStats()
+        self._execution_time = RunningStats()
+        self.pending.clear()
+
+    def __repr__(self) -> str:
+        return f"ControllerStatistics(period={self.period!r}, execution_time={self.execution_time!r})"

@@ -108,8 +108,8 @@ class FollowJointTrajectoryServer:
         goal = self._active_goal
         if goal is not None:
             goal.feedback = FollowJointTrajectoryFeedback(
-                Header(stamp=time), list(self._p.joints), copy.deepcopy(self.state_desired),
-                copy.deepcopy(self.state_current), copy.deepcopy(self.state_error))
+                Header(stamp=time), list(self._p.joints), self.state_desired.copy(), self.state_current.copy(),
+                self.state_error.copy())  # the points' own copies: lists of floats, no deep copy per cycle
             if violated:
                 goal._finish(GoalStatus.ABORTED, Result.PATH_TOLERANCE_VIOLATED, "Aborted due to path tolerance violation")
                 self._active_goal = None

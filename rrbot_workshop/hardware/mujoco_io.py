@@ -1,8 +1,8 @@
 """Where the interfaces of ``rrbot_workshop/MujocoSystem`` meet MuJoCo's arrays, worked out once.
 
 ``read`` and ``write`` run every control cycle, so the component does not look names up there: at
-configure time :func:`plan_state_reads` lists, for every state interface, the ``MjData`` array and index it
-copies from (and the sign); :func:`plan_gpio_mirrors` pairs each GPIO command with the same-named GPIO
+configure time :func:`plan_state_reads` lists, for every ``MjData`` array read, the state interfaces it fills, each
+with its index and sign (the array is turned into Python floats once per cycle); :func:`plan_gpio_mirrors` pairs each GPIO command with the same-named GPIO
 state; and whenever the command modes change :func:`plan_command_writes` lists which command feeds which
 actuator control. The cyclic code is then a flat loop over these lists.
 """
@@ -23,8 +23,8 @@ from rrbot_workshop.hardware_interface.handles import CommandInterface, StateInt
 
 __all__ = ["StateRead", "GpioMirror", "CommandWrite", "plan_state_reads", "plan_gpio_mirrors", "plan_command_writes"]
 
-#: ``(set_state, array, index, sign)``: the state becomes ``sign * array[index]``.
-StateRead = tuple[Callable[[Any], None], np.ndarray, int, float]
+#: ``(array, [(state handle, index, sign), ...])``: each state becomes ``sign * array[index]``.
+StateRead = tuple[np.ndarray, list[tuple[StateInterface, int, float]]]
 #: ``(get_command, set_state)``: the state repeats the command.
 GpioMirror = tuple[Callable[[], Any], Callable[[Any], None]]
 #: ``(get_command, actuator)``: the command becomes ``data.ctrl[actuator]``.
@@ -46,7 +46,11 @@ def plan_state_reads(
         data: The live data whose arrays are read.
         state_handles: Full name -> exported state interface; interfaces missing here are left out.
     """
-    plan: list[StateRead] = []
+    reads: dict[int, StateRead] = {}
+
+    def add(array: np.ndarray, handle: StateInterface, index: int, sign: float) -> None:
+        reads.setdefault(id(array), (array, []))[1].append((handle, index, sign))
+
     sources = {"position": (data.qpos, "q"), "velocity": (data.qvel, "v"), "acceleration": (data.qacc, "v"),
                "effort": (data.qfrc_actuator, "v")}
     for joint in info.joints:
@@ -55,7 +59,8 @@ def plan_state_reads(
             handle = state_handles.get(f"{joint.name}/{itf.name}")
             if handle is not None:
                 array, kind = sources[itf.name]
-                plan.append((handle.set_value, array, binding.qpos_adr if kind == "q" else binding.dof_adr, 1.0))
+                add(array, handle, binding.qpos_adr if kind == "q" else binding.dof_adr, 1.0)
+    sensordata = data.sensordata  # one view (each attribute access makes a new one)
     for sensor in info.sensors:
         ft = sim.force_torque_sensors[sensor.name]
         for itf in sensor.state_interfaces:
@@ -63,8 +68,8 @@ def plan_state_reads(
             if handle is not None:
                 k = FORCE_TORQUE_INTERFACES.index(itf.name)
                 adr = ft.force_adr + k if k < 3 else ft.torque_adr + k - 3
-                plan.append((handle.set_value, data.sensordata, adr, -1.0))
-    return plan
+                add(sensordata, handle, adr, -1.0)
+    return list(reads.values())
 
 
 def plan_gpio_mirrors(

@@ -244,8 +244,10 @@ class MujocoSystem(SystemInterface):
         return ReturnType.OK
 
     def _publish_states(self) -> None:
-        for set_value, array, index, sign in self._read_plan:
-            set_value(sign * float(array[index]) + 0.0)  # + 0.0 turns -0.0 into 0.0
+        for array, reads in self._read_plan:
+            values = array.tolist()  # Python floats, one conversion per array
+            for handle, index, sign in reads:  # the component's own handles: their values are set directly
+                handle._value = sign * values[index] + 0.0  # noqa: SLF001 - (+ 0.0 turns -0.0 into 0.0)
         for get_command, set_state in self._gpio_mirrors:
             value = get_command()
             if not (isinstance(value, float) and math.isnan(value)):

@@ -366,15 +366,11 @@ class HardwareComponent:
             return ReturnType.OK
         if self._exported is None:
             self._ensure_exported()
-        try:  # the common case inline; exceptions and wrong results take the logged path of _checked
+        try:  # the common case inline; exceptions and wrong results take the logged path of settle
             result = self._impl.read(time, period)
         except Exception:  # noqa: BLE001 - learner code may raise anything (handle_exceptions)
-            result = self._return_type("read", _reraise, sys.exc_info()[1])
-        if result.__class__ is not ReturnType:
-            result = self._return_type("read", lambda: result)
-        if result is ReturnType.ERROR:
-            self.error()
-        return result
+            return self.settle("read", None, sys.exc_info()[1])
+        return result if result is ReturnType.OK else self.settle("read", result)
 
     def write(self, time: float, period: float) -> ReturnType:
         """Call the implementation's ``write`` in ``active`` only; sensors never write.
@@ -393,9 +389,26 @@ class HardwareComponent:
         try:
             result = self._impl.write(time, period)
         except Exception:  # noqa: BLE001 - learner code may raise anything (handle_exceptions)
-            result = self._return_type("write", _reraise, sys.exc_info()[1])
-        if result.__class__ is not ReturnType:
-            result = self._return_type("write", lambda: result)
+            return self.settle("write", None, sys.exc_info()[1])
+        return result if result is ReturnType.OK else self.settle("write", result)
+
+    def settle(self, what: str, result: Any, exc: BaseException | None = None) -> ReturnType:
+        """What a ``read``/``write`` of the implementation amounts to when it did not return OK.
+
+        An exception (``exc``) is logged with its traceback and becomes ERROR, a result that is not a ReturnType is
+        logged and becomes ERROR, and ERROR puts the component through :meth:`error`. DEACTIVATE is returned unchanged.
+        The resource manager's compiled cycle calls the implementation itself and hands this its outcome, so both
+        paths behave the same.
+
+        Args:
+            what: ``"read"`` or ``"write"``.
+            result: What the implementation returned (ignored when ``exc`` is given).
+            exc: What the implementation raised, if anything.
+        """
+        if exc is not None:
+            result = self._return_type(what, _reraise, exc)
+        elif result.__class__ is not ReturnType:
+            result = self._return_type(what, lambda: result)
         if result is ReturnType.ERROR:
             self.error()
         return result

@@ -47,9 +47,12 @@ class HardwareCycle:
     (active, not sensors), each with its own rate when it is slower than the manager. It is rebuilt when a lifecycle
     state changes anywhere (:data:`~rrbot_workshop.middleware.lifecycle.TRANSITIONS`) or the components change
     (:meth:`set_entries`); a component with a slower rate stays in it whatever its state, as its time of last call
-    moves on in every state. A cycle then only calls the components: every call still goes through the component's
-    lifecycle wrapper, which checks the state, catches what the implementation raises and maps its result, and any
-    result but OK takes the slow path (the rules at the top of this module).
+    moves on in every state. A cycle then only calls the components. A component in the plan is in a state that
+    reads (writes), so the cycle calls its implementation's ``read``/``write`` itself (looked up on each call: a method
+    replaced at run time is called as it is now); what the implementation raises or any result but OK goes through
+    the wrapper's :meth:`~.HardwareComponent.settle` (logged, mapped to ERROR, ``error()``) and then the slow path (the
+    rules at the top of this module). A slower component, or any component after a state changed during the cycle,
+    is called through its lifecycle wrapper, which checks the state first.
 
     Args:
         update_rate: The controller manager's rate in [Hz].
@@ -90,31 +93,51 @@ class HardwareCycle:
         """Read every component that is due; None when all returned OK, else what failed."""
         if self._built_at != TRANSITIONS.value:
             self._build()
-        return self._run(self._reads, "read", "last_read", time, period)
+        return self._run(self._reads, True, time, period)
 
     def write(self, time: float, period: float) -> HardwareReadWriteStatus | None:
         """Write every component that is due; None when all returned OK, else what failed or deactivated."""
         if self._built_at != TRANSITIONS.value:
             self._build()
-        return self._run(self._writes, "write", "last_write", time, period)
+        return self._run(self._writes, False, time, period)
 
-    def _run(self, plan: list[tuple[ComponentEntry, Any, int]], which: str, last_attr: str, time: float,
+    def _run(self, plan: list[tuple[ComponentEntry, Any, int]], reading: bool, time: float,
              period: float) -> HardwareReadWriteStatus | None:
         status = None
         ok = ReturnType.OK
+        built = self._built_at
+        which = "read" if reading else "write"
         for entry, component, slow in plan:
             own_period = period
             if slow:
-                last = getattr(entry, last_attr)
+                last = entry.last_read if reading else entry.last_write
                 if not rate_due(last, time, slow, self.update_rate):
                     continue
                 own_period = period if last is None else time - last
-            setattr(entry, last_attr, time)
-            try:  # the wrapper catches what the implementation raises; this catches what the wrapper raises
-                result = getattr(component, which)(time, own_period)
-            except Exception:  # noqa: BLE001 - handle_exceptions
-                _log.error("%s of hardware '%s' raised:\n%s", which, entry.info.name, traceback.format_exc())
-                result = ReturnType.ERROR
+            if reading:
+                entry.last_read = time
+            else:
+                entry.last_write = time
+            impl = component._impl  # noqa: SLF001 - the cycle calls the implementation, as the wrapper would
+            if slow or built != TRANSITIONS.value or component._exported is None:  # noqa: SLF001
+                # a slower component (any state), or a state changed during this cycle: the wrapper decides
+                try:  # the wrapper catches what the implementation raises; this catches what the wrapper raises
+                    result = component.read(time, own_period) if reading else component.write(time, own_period)
+                except Exception:  # noqa: BLE001 - handle_exceptions
+                    _log.error("%s of hardware '%s' raised:\n%s", which, entry.info.name, traceback.format_exc())
+                    result = ReturnType.ERROR
+            else:  # in the plan, so in a state that reads (or writes): call the implementation as it is now
+                try:
+                    try:
+                        result = impl.read(time, own_period) if reading else impl.write(time, own_period)
+                    except Exception as exc:  # noqa: BLE001 - learner code may raise anything (handle_exceptions)
+                        result = component.settle(which, None, exc)
+                    else:
+                        if result is not ok:
+                            result = component.settle(which, result)
+                except Exception:  # noqa: BLE001 - what settling raises, as from the wrapper above
+                    _log.error("%s of hardware '%s' raised:\n%s", which, entry.info.name, traceback.format_exc())
+                    result = ReturnType.ERROR
             if result is not ok:
                 status = self._failed(which, entry, result, status)
         return status

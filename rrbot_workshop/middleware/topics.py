@@ -121,7 +121,17 @@ class Publisher:
         ``args`` must only hold values of this moment (the cycle's numbers, lists nobody changes afterwards), never
         live handles. Passing the values as ``args`` spares the cycle a closure.
         """
-        self._bus._publish_lazy(self.topic_name, build, args)
+        bus, topic = self._bus, self.topic_name
+        if bus._subs.get(topic):  # subscribers read every message: build it now
+            bus._publish(topic, build(*args))
+            return
+        # the lazy item goes where _publish puts a message: the topic's latest and its history
+        item = _Lazy(build, args)
+        bus._latest[topic] = item
+        hist = bus._history.get(topic)
+        if hist is None:
+            hist = bus._history[topic] = collections.deque(maxlen=bus._history_depth)
+        hist.append(item)
 
     def get_subscription_count(self) -> int:
         """Number of subscriptions on this topic."""
@@ -232,17 +242,6 @@ class TopicBus:
         hist.append(msg)
         if self._subs.get(topic):
             self._queue.append((topic, msg))
-
-    def _publish_lazy(self, topic: str, build: Callable[..., Any], args: tuple[Any, ...] = ()) -> None:
-        if self._subs.get(topic):  # subscribers read every message: build it now
-            self._publish(topic, build(*args))
-            return
-        item = _Lazy(build, args)
-        self._latest[topic] = item
-        hist = self._history.get(topic)
-        if hist is None:
-            hist = self._history[topic] = collections.deque(maxlen=self._history_depth)
-        hist.append(item)
 
     def publish(self, topic: str, msg: Any) -> None:
         """Publish ``msg`` on ``topic`` from outside any node (like ``ros2 topic pub``).
