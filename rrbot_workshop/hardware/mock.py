@@ -33,7 +33,7 @@ from typing import Any
 
 from rrbot_workshop.description.info import ComponentInfo, HardwareInfo, InterfaceInfo
 from rrbot_workshop.hardware_interface.component_interface import SystemInterface
-from rrbot_workshop.hardware_interface.handles import CommandInterface, parse_value
+from rrbot_workshop.hardware_interface.handles import ADOPTIONS, CommandInterface, parse_value
 from rrbot_workshop.middleware.lifecycle import CallbackReturn, ReturnType, State
 
 __all__ = ["GenericSystem", "STANDARD_INTERFACES"]
@@ -81,7 +81,8 @@ class GenericSystem(SystemInterface):
         self._warned_disabled = False
         #: What ``read`` does without ``calculate_dynamics``, prepared once: (kind, source, target, offset, gain).
         #: The prepared read (see _build_plan), as runs of steps of one kind; None until the first read.
-        self._plan_runs: list[tuple[int, list[tuple[Any, Any, float, float]]]] | None = None
+        self._plan_runs: list[tuple[int, list[tuple[list[Any], int, list[Any], int, float, float]]]] | None = None
+        self._plan_adoptions = -1
 
     # ----------------------------------------------------------------- lifecycle
     def on_init(self, info: HardwareInfo) -> CallbackReturn:
@@ -391,29 +392,31 @@ class GenericSystem(SystemInterface):
 
     def _run_plan(self) -> ReturnType:
         runs = self._plan_runs
-        if runs is None:
+        if runs is None or self._plan_adoptions != ADOPTIONS.value:  # built before the handles moved: build again
             runs = self._plan_runs = _runs_of_one_kind(self._build_plan())
-        # the handles are the component's own: their values are read and written directly, a run of steps of one
-        # kind at a time (the order of the steps is kept: a mimic joint reads what the steps before it wrote)
+            self._plan_adoptions = ADOPTIONS.value
+        # the handles are the component's own: their values are read and written in their flat lists directly, a
+        # run of steps of one kind at a time (the order of the steps is kept: a mimic joint reads what the steps
+        # before it wrote)
         for kind, steps in runs:
             if kind == 0:  # follow a command, when it is finite (v - v is 0.0 exactly for finite numbers)
-                for source, target, offset, _gain in steps:
-                    value = source._value
+                for src, i, dst, j, offset, _gain in steps:
+                    value = src[i]
                     if value - value == 0.0:
-                        target._value = value + offset
+                        dst[j] = value + offset
             elif kind == 1:  # mirror a float command; an infinite one is an error, NaN leaves the state
-                for source, target, _offset, _gain in steps:
-                    value = source._value
+                for src, i, dst, j, _offset, _gain in steps:
+                    value = src[i]
                     if value == value:
                         if value - value != 0.0:
                             return ReturnType.ERROR
-                        target._value = value
+                        dst[j] = value
             elif kind == 2:
-                for source, target, _offset, _gain in steps:
-                    target._value = bool(source._value)
+                for src, i, dst, j, _offset, _gain in steps:
+                    dst[j] = bool(src[i])
             else:  # a mimic joint
-                for source, target, offset, gain in steps:
-                    target._value = offset + gain * source._value
+                for src, i, dst, j, offset, gain in steps:
+                    dst[j] = offset + gain * src[i]
         return ReturnType.OK
 
     def _mirror_components(self, components: Sequence[ComponentInfo], every_state: bool) -> bool:
@@ -433,11 +436,12 @@ class GenericSystem(SystemInterface):
 
 def _runs_of_one_kind(
     plan: list[tuple[int, Any, Any, float, float]],
-) -> list[tuple[int, list[tuple[Any, Any, float, float]]]]:
-    """The plan's steps grouped into consecutive runs of one kind, in their order."""
-    runs: list[tuple[int, list[tuple[Any, Any, float, float]]]] = []
+) -> list[tuple[int, list[tuple[list[Any], int, list[Any], int, float, float]]]]:
+    """The plan's steps grouped into consecutive runs of one kind, in their order, each handle given as its flat
+    list and index."""
+    runs: list[tuple[int, list[tuple[list[Any], int, list[Any], int, float, float]]]] = []
     for kind, source, target, offset, gain in plan:
         if not runs or runs[-1][0] != kind:
             runs.append((kind, []))
-        runs[-1][1].append((source, target, offset, gain))
+        runs[-1][1].append((source._store, source._index, target._store, target._index, offset, gain))
     return runs

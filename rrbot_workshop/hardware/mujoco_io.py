@@ -23,8 +23,9 @@ from rrbot_workshop.hardware_interface.handles import CommandInterface, StateInt
 
 __all__ = ["StateRead", "GpioMirror", "CommandWrite", "plan_state_reads", "plan_gpio_mirrors", "plan_command_writes"]
 
-#: ``(array, [(state handle, index, sign), ...])``: each state becomes ``sign * array[index]``.
-StateRead = tuple[np.ndarray, list[tuple[StateInterface, int, float]]]
+#: ``(array, [(store, slot, index, sign), ...])``: each state (the value in ``store[slot]``, its handle's flat list
+#: and index) becomes ``sign * array[index]``.
+StateRead = tuple[np.ndarray, list[tuple[list[Any], int, int, float]]]
 #: ``(get_command, set_state)``: the state repeats the command.
 GpioMirror = tuple[Callable[[], Any], Callable[[Any], None]]
 #: ``(get_command, actuator)``: the command becomes ``data.ctrl[actuator]``.
@@ -49,7 +50,7 @@ def plan_state_reads(
     reads: dict[int, StateRead] = {}
 
     def add(array: np.ndarray, handle: StateInterface, index: int, sign: float) -> None:
-        reads.setdefault(id(array), (array, []))[1].append((handle, index, sign))
+        reads.setdefault(id(array), (array, []))[1].append((handle._store, handle._index, index, sign))  # noqa: SLF001
 
     sources = {"position": (data.qpos, "q"), "velocity": (data.qvel, "v"), "acceleration": (data.qacc, "v"),
                "effort": (data.qfrc_actuator, "v")}

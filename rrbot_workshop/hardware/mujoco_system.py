@@ -54,6 +54,7 @@ from rrbot_workshop.hardware.mujoco_io import (
 from rrbot_workshop.hardware.mujoco_model import MujocoModel, build_model
 from rrbot_workshop.hardware.mujoco_modes import command_modes_after_switch
 from rrbot_workshop.hardware_interface.component_interface import SystemInterface
+from rrbot_workshop.hardware_interface.handles import ADOPTIONS
 from rrbot_workshop.middleware.lifecycle import CallbackReturn, ReturnType, State
 
 __all__ = ["MujocoSystem"]
@@ -71,6 +72,7 @@ class MujocoSystem(SystemInterface):
         self._powered: bool = False
         self._timestep: float = 0.001
         self._read_plan: list[StateRead] = []
+        self._read_plan_adoptions = -1
         self._write_plan: list[CommandWrite] = []
         self._gpio_mirrors: list[GpioMirror] = []
         #: Why the last ``prepare_command_mode_switch`` returned ERROR, or ``""``.
@@ -220,6 +222,7 @@ class MujocoSystem(SystemInterface):
         """Work out, once, where each state interface reads from, so ``read`` is a flat loop."""
         assert self._sim is not None and self._data is not None
         self._read_plan = plan_state_reads(self.info, self._sim, self._data, self._state_handles)
+        self._read_plan_adoptions = ADOPTIONS.value
         self._gpio_mirrors = plan_gpio_mirrors(self.info, self._state_handles, self._command_handles)
 
     def _plan_write(self) -> None:
@@ -244,10 +247,12 @@ class MujocoSystem(SystemInterface):
         return ReturnType.OK
 
     def _publish_states(self) -> None:
+        if self._read_plan_adoptions != ADOPTIONS.value:  # the handles moved since the plan was made
+            self._plan_read()
         for array, reads in self._read_plan:
             values = array.tolist()  # Python floats, one conversion per array
-            for handle, index, sign in reads:  # the component's own handles: their values are set directly
-                handle._value = sign * values[index] + 0.0  # noqa: SLF001 - (+ 0.0 turns -0.0 into 0.0)
+            for store, slot, index, sign in reads:  # the component's own handles, set in their flat lists
+                store[slot] = sign * values[index] + 0.0  # + 0.0 turns -0.0 into 0.0
         for get_command, set_state in self._gpio_mirrors:
             value = get_command()
             if not (isinstance(value, float) and math.isnan(value)):

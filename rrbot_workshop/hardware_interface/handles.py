@@ -2,8 +2,14 @@
 
 In ros2_control a hardware component *owns* each value it exposes; the resource manager keeps one
 handle per ``"<prefix>/<interface>"`` name, and controllers *borrow* handles through loans. Here a
-handle is a small object holding one value; a loan is a thin view on a handle that the resource
-manager hands out and takes back.
+handle is a small object naming one slot of a flat list of values; a loan is a thin view on a handle that the
+resource manager hands out and takes back.
+
+**Flat storage.** A new handle keeps its value in a list of its own. When the resource manager takes a component's
+handles (or a chainable controller's exported ones) it *adopts* them (:func:`adopt`): their values move into the
+storage's one flat list and each handle keeps only its index. ``get_value``/``set_value`` work the same either way;
+what changes is that code prepared once can move many values in one call: :func:`value_reader` reads all the loans
+of a controller with one ``operator.itemgetter`` over the flat list.
 """
 
 from __future__ import annotations
@@ -25,6 +31,8 @@ __all__ = [
     "parse_value",
     "value_reader",
     "value_writer",
+    "adopt",
+    "ADOPTIONS",
 ]
 
 #: Data types ros2_control handles accept, mapped to the Python type used to hold them.
@@ -85,8 +93,22 @@ def parse_value(text: str | None, data_type: str = "double", *, where: str = "")
         raise DescriptionError(f"initial value '{text}' of '{where}' is not a valid {data_type}") from exc
 
 
+class _Counter:
+    """A number that only goes up (see :data:`ADOPTIONS`)."""
+
+    __slots__ = ("value",)
+
+    def __init__(self) -> None:
+        self.value = 0
+
+
+#: Moved by every :func:`adopt` that moves a handle: code that prepared the stores and indices of handles (a
+#: hardware component's read plan) prepares them again when it has moved.
+ADOPTIONS = _Counter()
+
+
 class Handle:
-    """One named value: ``"<prefix_name>/<interface_name>"``.
+    """One named value: ``"<prefix_name>/<interface_name>"``, held in a slot of a flat list (see the module's notes).
 
     Args:
         prefix_name: Joint, sensor, GPIO or controller name (``"joint1"``).
@@ -95,7 +117,7 @@ class Handle:
         initial_value: Initial value; NaN by default for doubles.
     """
 
-    __slots__ = ("_prefix_name", "_interface_name", "_data_type", "_value", "_name")
+    __slots__ = ("_prefix_name", "_interface_name", "_data_type", "_name", "_store", "_index")
 
     def __init__(
         self, prefix_name: str, interface_name: str, data_type: str = "double", initial_value: Any = None
@@ -109,7 +131,10 @@ class Handle:
         self._interface_name = interface_name
         self._data_type = data_type
         self._name = f"{prefix_name}/{interface_name}"
-        self._value: Any = parse_value(None, data_type, where=self._name) if initial_value is None else initial_value
+        value = parse_value(None, data_type, where=self._name) if initial_value is None else initial_value
+        #: The flat list holding the value, and the value's index in it (a list of its own until adopted).
+        self._store: list[Any] = [value]
+        self._index = 0
 
     @property
     def name(self) -> str:
@@ -133,11 +158,11 @@ class Handle:
 
     def get_value(self) -> Any:
         """Current value."""
-        return self._value
+        return self._store[self._index]
 
     def set_value(self, value: Any) -> None:
         """Store a new value."""
-        self._value = value
+        self._store[self._index] = value
 
     # ros2_control Jazzy method names
     def get_name(self) -> str:
@@ -153,7 +178,7 @@ class Handle:
         return self._interface_name
 
     def __repr__(self) -> str:
-        return f"{type(self).__name__}({self._name!r}, value={self._value!r})"
+        return f"{type(self).__name__}({self._name!r}, value={self.get_value()!r})"
 
 
 class StateInterface(Handle):
@@ -208,7 +233,8 @@ class _Loaned:
 
     def get_value(self) -> Any:
         """Current value of the borrowed handle."""
-        return self._handle.get_value()
+        handle = self._handle
+        return handle._store[handle._index]
 
     def release(self) -> None:
         """Give the handle back. Safe to call more than once."""
@@ -233,7 +259,28 @@ class LoanedCommandInterface(_Loaned):
 
     def set_value(self, value: Any) -> None:
         """Write a command."""
-        self._handle.set_value(value)
+        handle = self._handle
+        handle._store[handle._index] = value
+
+
+def adopt(handles: Sequence[Handle], store: list[Any]) -> None:
+    """Move the values of ``handles`` into the flat list ``store`` (the resource manager's): each value is appended
+    and its handle points at it from then on. Handles already in ``store`` stay where they are."""
+    moved = False
+    for handle in handles:
+        if handle._store is not store:
+            value = handle._store[handle._index]
+            handle._store, handle._index = store, len(store)
+            store.append(value)
+            moved = True
+    if moved:
+        ADOPTIONS.value += 1
+
+
+def _shared_store(handles: Sequence[Handle]) -> list[Any] | None:
+    """The one flat list all ``handles`` live in, or None if they live in several."""
+    stores = {id(h._store): h._store for h in handles}
+    return next(iter(stores.values())) if len(stores) == 1 else None
 
 
 def value_reader(loans: Sequence[_Loaned]) -> Callable[[], list[Any]]:
@@ -241,18 +288,35 @@ def value_reader(loans: Sequence[_Loaned]) -> Callable[[], list[Any]]:
 
     It is how a controller prepared at activation reads many interfaces per cycle without a method call per value;
     it stays valid while the loans are held (a controller builds it in ``on_activate`` and drops it on deactivate).
+    When the loans' handles live in one flat list (they do once the resource manager holds them), the values are
+    read with one ``operator.itemgetter`` call.
     """
     handles = [loan._handle for loan in loans]
-    get = operator.attrgetter("_value")
-    return lambda: list(map(get, handles))
+    store = _shared_store(handles)
+    if store is None or not handles:  # a harness's own handles, or nothing to read
+        return lambda: [h._store[h._index] for h in handles]
+    indices = [h._index for h in handles]
+    if len(indices) == 1:
+        index = indices[0]
+        return lambda: [store[index]]
+    get = operator.itemgetter(*indices)
+    return lambda: list(get(store))
 
 
 def value_writer(loans: Sequence[LoanedCommandInterface]) -> Callable[[Sequence[Any]], None]:
     """A function that writes one value to each of ``loans``, in order, in one call (see :func:`value_reader`)."""
     handles = [loan._handle for loan in loans]
+    store = _shared_store(handles)
+    if store is None:
+        def write_each(values: Sequence[Any]) -> None:
+            for handle, value in zip(handles, values, strict=False):  # extra values are ignored, as before
+                handle._store[handle._index] = value
+
+        return write_each
+    indices = [h._index for h in handles]
 
     def write(values: Sequence[Any]) -> None:
-        for handle, value in zip(handles, values, strict=False):  # extra values are ignored, as before
-            handle._value = value
+        for index, value in zip(indices, values, strict=False):  # extra values are ignored, as before
+            store[index] = value
 
     return write

@@ -1,6 +1,8 @@
 """Interface storage of the resource manager: handles, availability and claims.
 
-One float (or bool/int) per full interface name ``"<prefix>/<interface>"``. The storage keeps which names
+One float (or bool/int) per full interface name ``"<prefix>/<interface>"``, all in one flat list (:attr:`values`):
+the storage adopts the handles it is given (:func:`~rrbot_workshop.hardware_interface.handles.adopt`), so a
+controller's loans can be read in one call. The storage keeps which names
 exist, which are *available* (their owner is configured, or the exporting controller is active) and which
 command interfaces are *claimed* and by whom. Hardware handles and the interfaces that chainable
 controllers export (reference interfaces are command interfaces; exported states are state interfaces)
@@ -18,6 +20,7 @@ from rrbot_workshop.hardware_interface.handles import (
     LoanedCommandInterface,
     LoanedStateInterface,
     StateInterface,
+    adopt,
 )
 
 __all__ = ["InterfaceStorage"]
@@ -27,6 +30,8 @@ class InterfaceStorage:
     """Handles by full name, their availability and command claims."""
 
     def __init__(self) -> None:
+        #: The value of every interface the storage holds, in the order they came (a removed one leaves its slot).
+        self.values: list[Any] = []
         self.states: dict[str, StateInterface] = {}
         self.commands: dict[str, CommandInterface] = {}
         self.available_states: set[str] = set()
@@ -40,7 +45,9 @@ class InterfaceStorage:
 
     # ----------------------------------------------------------------- adding and removing
     def add_hardware(self, component: str, states: Sequence[StateInterface], commands: Sequence[CommandInterface]) -> None:
-        """Store a component's handles (unavailable until the component is configured)."""
+        """Store a component's handles (unavailable until the component is configured); their values move into
+        :attr:`values`."""
+        adopt([*states, *commands], self.values)
         for h in states:
             self.states[h.name] = h
             self.hardware_owner.setdefault(h.name, component)
@@ -82,6 +89,7 @@ class InterfaceStorage:
                 f"controller '{controller}' exports {kind} interface(s) {clash} that already exist; "
                 "exported names must be unique"
             )
+        adopt(handles, self.values)
         for h in handles:
             pool[h.name] = h
         target = self.controller_references if kind == "reference" else self.controller_states

@@ -156,3 +156,69 @@ def test_a_kept_linear_segment_samples_exactly_the_linear_blend(dim: int, with_e
                 (positions, velocities, accelerations, effort), f"differs at t = {t}"
             assert sample.time_from_start == t - t0
             assert interpolate_between_points(t0, p0, t1, p1, t) == sample, f"the general interpolation differs at {t}"
+
+
+# ----------------------------------------------------------------- flat interface storage
+def test_the_resource_manager_holds_every_value_in_one_flat_list(system: rw.System) -> None:
+    rm = system.controller_manager.resource_manager
+    storage = rm._storage  # noqa: SLF001 - the storage is what this test is about
+    handles = [*storage.states.values(), *storage.commands.values()]
+    assert handles and all(h._store is storage.values for h in handles)  # noqa: SLF001
+    assert sorted(h._index for h in handles) == sorted({h._index for h in handles})  # noqa: SLF001 - one slot each
+    state = storage.states["joint1/position"]
+    assert storage.values[state._index] == state.get_value() == pytest.approx(0.3)  # noqa: SLF001
+    state.set_value(1.25)  # the handle API writes the slot
+    assert storage.values[state._index] == 1.25  # noqa: SLF001
+
+
+def test_a_reader_over_adopted_handles_reads_the_flat_list_and_one_over_own_handles_still_works() -> None:
+    from rrbot_workshop.hardware_interface.handles import (
+        ADOPTIONS,
+        LoanedCommandInterface,
+        LoanedStateInterface,
+        StateInterface,
+        adopt,
+        value_reader,
+        value_writer,
+    )
+
+    a, b, c = StateInterface("j", "a", initial_value=1.0), StateInterface("j", "b", initial_value=2.0), \
+        StateInterface("j", "c", initial_value=3.0)
+    own = value_reader([LoanedStateInterface(h) for h in (a, b, c)])
+    assert own() == [1.0, 2.0, 3.0]  # three lists of their own: read one by one
+    store: list[float] = [9.0]
+    before = ADOPTIONS.value
+    adopt([c, a], store)
+    assert ADOPTIONS.value == before + 1 and store == [9.0, 3.0, 1.0]
+    adopt([c, a], store)  # already there: nothing moves
+    assert ADOPTIONS.value == before + 1 and store == [9.0, 3.0, 1.0]
+    a.set_value(5.0)
+    assert store[2] == 5.0 and own() == [5.0, 2.0, 3.0]  # the old reader follows each handle to its slot
+    shared = value_reader([LoanedStateInterface(h) for h in (a, c)])
+    assert shared() == [5.0, 3.0]
+    assert value_reader([LoanedStateInterface(c)])() == [3.0]
+    write = value_writer([LoanedCommandInterface(h) for h in (a, c)])
+    write([7.0, 8.0, 99.0])  # extra values are ignored
+    assert (a.get_value(), c.get_value(), store) == (7.0, 8.0, [9.0, 8.0, 7.0])
+
+
+def test_the_mock_read_plan_follows_its_handles_when_they_move() -> None:
+    from rrbot_workshop.hardware_interface.handles import adopt
+
+    info = rw.description.parse_ros2_control(
+        rw.description.process_xacro(rw.description.descriptions_root() / "rrbot/urdf/rrbot.urdf.xacro"))[0]
+    from rrbot_workshop.hardware.mock import GenericSystem
+
+    component = GenericSystem()
+    assert component.on_init(info).name == "SUCCESS"
+    states, commands = component.export_state_interfaces(), component.export_command_interfaces()
+    component._register_handles(states, commands)  # noqa: SLF001 - what the resource manager does with them
+    command = next(h for h in commands if h.name == "joint1/position")
+    state = next(h for h in states if h.name == "joint1/position")
+    command.set_value(0.5)
+    assert component.read(0.0, 0.01) is ReturnType.OK and state.get_value() == 0.5  # plan over the own lists
+    store: list[float] = []
+    adopt([*states, *commands], store)  # now the handles live in one flat list: the plan is made again
+    command.set_value(-0.25)
+    assert component.read(0.01, 0.01) is ReturnType.OK
+    assert state.get_value() == -0.25 and store[state._index] == -0.25  # noqa: SLF001
