@@ -32,8 +32,8 @@ from rrbot_workshop.description.info import HardwareInfo
 from rrbot_workshop.exceptions import ControllerNotFound, HardwareError, ParameterError
 from rrbot_workshop.hardware_interface.resource_manager import ResourceManager
 from rrbot_workshop.middleware.clock import Clock, WallClock, make_clock
+from rrbot_workshop.middleware.controllers_yaml import ControllersConfig
 from rrbot_workshop.middleware.lifecycle import State
-from rrbot_workshop.middleware.params import ControllersConfig
 from rrbot_workshop.middleware.topics import TopicBus
 
 __all__ = ["bringup", "System", "current_system", "get_system", "systems"]

@@ -3,7 +3,7 @@
 * :func:`description_to_urdf`: a ``.xacro``/``.urdf`` path, URDF text, or a package name under ``descriptions/``
   -> URDF text (with the package, when known, and a label of the source);
 * :func:`controllers_config`: a path, a file name under ``descriptions/<package>/config/``, YAML text, a mapping
-  or a :class:`~rrbot_workshop.middleware.params.ControllersConfig` -> a ``ControllersConfig``;
+  or a :class:`~rrbot_workshop.middleware.controllers_yaml.ControllersConfig` -> a ``ControllersConfig``;
 * :func:`hardware_initial_states`: the hardware components' initial states, from the controllers YAML and the caller.
 """
 
@@ -14,8 +14,8 @@ from pathlib import Path
 from typing import Any
 
 from rrbot_workshop.exceptions import DescriptionError, HardwareError, ParameterError
+from rrbot_workshop.middleware.controllers_yaml import ControllersConfig, load_controllers_yaml
 from rrbot_workshop.middleware.lifecycle import State
-from rrbot_workshop.middleware.params import ControllersConfig, load_controllers_yaml
 
 __all__ = ["description_to_urdf", "controllers_config", "hardware_initial_states"]
 
