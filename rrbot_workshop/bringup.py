@@ -26,13 +26,14 @@ from pathlib import Path
 from types import TracebackType
 from typing import Any
 
+from rrbot_workshop.bringup_inputs import controllers_config, description_to_urdf, hardware_initial_states
 from rrbot_workshop.controller_manager.manager import ControllerManager
 from rrbot_workshop.description.info import HardwareInfo
-from rrbot_workshop.exceptions import ControllerNotFound, DescriptionError, HardwareError, ParameterError
+from rrbot_workshop.exceptions import ControllerNotFound, HardwareError, ParameterError
 from rrbot_workshop.hardware_interface.resource_manager import ResourceManager
 from rrbot_workshop.middleware.clock import Clock, WallClock, make_clock
+from rrbot_workshop.middleware.controllers_yaml import ControllersConfig
 from rrbot_workshop.middleware.lifecycle import State
-from rrbot_workshop.middleware.params import ControllersConfig, load_controllers_yaml
 from rrbot_workshop.middleware.topics import TopicBus
 
 __all__ = ["bringup", "System", "current_system", "get_system", "systems"]
@@ -311,94 +312,6 @@ class System:
         )
 
 
-# ===================================================================== resolving inputs
-def _description_to_urdf(description: str | Path, xacro_args: Mapping[str, Any]) -> tuple[str, str | None, str]:
-    """(URDF text, package name if known, source label)."""
-    from rrbot_workshop.description import descriptions_root, process_xacro
-
-    text = str(description)
-    if isinstance(description, str) and text.lstrip().startswith("<"):
-        return text, None, "<urdf string>"
-    path = Path(text)
-    package = None
-    if not path.suffix and "/" not in text and "\\" not in text:
-        root = descriptions_root()
-        package = text
-        path = root / text / "urdf" / f"{text}.urdf.xacro"
-        if not path.exists():
-            valid = sorted(p.name for p in root.iterdir() if p.is_dir()) if root.is_dir() else []
-            raise DescriptionError(
-                f"description '{text}' is neither a file nor a package with urdf/{text}.urdf.xacro (packages: {valid})"
-            )
-    if not path.exists():
-        raise DescriptionError(f"description file '{path}' does not exist")
-    if package is None:
-        try:
-            rel = path.resolve().relative_to(descriptions_root().resolve())
-            package = rel.parts[0]
-        except (ValueError, IndexError):
-            package = None
-    if path.suffix == ".xacro":
-        return process_xacro(path, **dict(xacro_args)), package, str(path)
-    if xacro_args:
-        return process_xacro(path, **dict(xacro_args)), package, str(path)
-    return path.read_text(), package, str(path)
-
-
-def _controllers_config(controllers: Any, package: str | None) -> ControllersConfig:
-    if controllers is None:
-        return ControllersConfig()
-    if isinstance(controllers, ControllersConfig):
-        return controllers
-    if isinstance(controllers, Mapping):
-        return load_controllers_yaml(controllers)
-    text = str(controllers)
-    if "\n" in text:
-        return load_controllers_yaml(text)
-    path = Path(text)
-    if not path.exists() and package is not None and "/" not in text:
-        from rrbot_workshop.description import descriptions_root
-
-        candidate = descriptions_root() / package / "config" / text
-        if candidate.exists():
-            path = candidate
-        else:
-            config_dir = candidate.parent
-            valid = sorted(p.name for p in config_dir.glob("*.yaml")) if config_dir.is_dir() else []
-            raise ParameterError("controllers file", text, f"not found in {config_dir} (files there: {valid})")
-    if not path.exists():
-        raise ParameterError("controllers file", text, "does not exist (give a path, a file name under "
-                             "descriptions/<package>/config/, a mapping or YAML text)")
-    return load_controllers_yaml(path)
-
-
-def _initial_states(cfg: ControllersConfig, override: Mapping[str, Any] | None) -> dict[str, State]:
-    states: dict[str, State] = {}
-    section = cfg.manager_parameters.get("hardware_components_initial_state") or {}
-    if not isinstance(section, Mapping):
-        raise ParameterError("controller_manager", "hardware_components_initial_state", "must be a mapping")
-    for label in ("unconfigured", "inactive"):
-        names = section.get(label) or []
-        if not isinstance(names, list):
-            raise ParameterError(
-                "controller_manager", f"hardware_components_initial_state.{label}", "must be a list of component names"
-            )
-        for n in names:
-            states[str(n)] = State.from_label(label)
-    extra = set(section) - {"unconfigured", "inactive"}
-    if extra:
-        raise ParameterError(
-            "controller_manager", "hardware_components_initial_state",
-            f"has unknown key(s) {sorted(extra)} (valid: 'unconfigured', 'inactive')",
-        )
-    for n, label in (override or {}).items():
-        try:
-            states[n] = label if isinstance(label, State) else State.from_label(str(label))
-        except ValueError as exc:
-            raise HardwareError(f"hardware_initial_state of '{n}': {exc}") from None
-    return states
-
-
 # ===================================================================== bringup
 def bringup(
     description: str | Path,
@@ -438,8 +351,8 @@ def bringup(
     """
     from rrbot_workshop.description import parse_ros2_control
 
-    urdf, package, source = _description_to_urdf(description, xacro_args or {})
-    cfg = _controllers_config(controllers, package)
+    urdf, package, source = description_to_urdf(description, xacro_args or {})
+    cfg = controllers_config(controllers, package)
     infos = parse_ros2_control(urdf, source=source)
     spawn, inactive = list(spawn), list(inactive)
     both = sorted(set(spawn) & set(inactive))
@@ -450,7 +363,7 @@ def bringup(
             raise ControllerNotFound(ctrl, cfg.controller_types, what=f"declared in the controllers config ({cfg.source})")
 
     the_clock = make_clock(clock, cfg.update_rate)
-    rm = ResourceManager(update_rate=cfg.update_rate, initial_states=_initial_states(cfg, hardware_initial_state))
+    rm = ResourceManager(update_rate=cfg.update_rate, initial_states=hardware_initial_states(cfg, hardware_initial_state))
     rm.load_hardware_infos(infos)
     cm = ControllerManager(rm, TopicBus(), cfg.update_rate, urdf, cfg, the_clock)
     if name is None:

@@ -329,7 +329,7 @@ def test_shutdown_unloads_everything() -> None:
 
 def test_non_divisor_rate_uses_integer_division_like_ros2_control() -> None:
     """30 Hz on a 200 Hz loop: 200 // round(200 / 30) = 200 // 7 = 28 Hz (not 29)."""
-    from rrbot_workshop.controller_interface.base import _effective_rate
+    from rrbot_workshop.controller_interface.controller import _effective_rate
 
     assert _effective_rate(30, 200) == 28
     assert _effective_rate(0, 200) == 200
