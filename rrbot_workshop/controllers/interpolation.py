@@ -190,17 +190,15 @@ class LinearSegment:
             else:
                 effort = (e0 + es * tau).tolist() if es is not None else (e0 + 0.0).tolist()
         else:
-            x0l, sl = self._x0, self._slopes
-            positions = [x0l[i] + sl[i] * tau for i in range(dim)]
+            positions = [x + s * tau for x, s in zip(self._x0, self._slopes, strict=True)]
             e0l, esl = self._e0, self._effort_slopes
             if e0l is None:
                 effort = [0.0] * dim
             elif esl is not None:
-                effort = [e0l[i] + esl[i] * tau for i in range(dim)]
+                effort = [e + s * tau for e, s in zip(e0l, esl, strict=True)]
             else:
-                effort = [e0l[i] + 0.0 for i in range(dim)]
-        return JointTrajectoryPoint(positions=positions, velocities=list(self._slopes), accelerations=[0.0] * dim,
-                                    effort=effort, time_from_start=t - self.t0)
+                effort = [e + 0.0 for e in e0l]
+        return JointTrajectoryPoint(positions, list(self._slopes), [0.0] * dim, effort, t - self.t0)
 
 
 def deduce_from_derivatives(

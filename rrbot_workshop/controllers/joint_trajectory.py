@@ -363,15 +363,17 @@ class JointTrajectoryController(ControllerInterface, FollowJointTrajectoryServer
         if self._has_cmd["effort"]:
             # with [position, effort] upstream writes the effort sampled at `time`, not one period ahead
             io.write("effort", pid_out if self._use_pid else self.state_desired.effort)
-        self._last_cmd_state = nxt.copy()
+        # the sample is a new point every cycle and nothing changes it afterwards (a new trajectory starts from a copy
+        # of it), so it is kept as it is
+        self._last_cmd_state = nxt
         self._last_cmd_time = time
 
     def _publish_state(self, io: JointInterfaces, time: float) -> None:
         if self._pub is None:
             return
         # built when someone reads it: this cycle's points are never changed afterwards (each cycle makes new ones)
-        self._pub.publish_lazy(controller_state_message, time, self._p.joints, self.state_desired, self.state_current,
-                               self.state_error, io.command_point())  # the commands now, not when it is read
+        self._pub.publish_lazy(_state_message, time, self._p.joints, self.state_desired, self.state_current,
+                               self.state_error, io.command_values_now())  # the commands now, not when it is read
 
     # ----------------------------------------------------------------- introspection
     @property
@@ -383,3 +385,12 @@ class JointTrajectoryController(ControllerInterface, FollowJointTrajectoryServer
     def current_trajectory(self) -> Trajectory | None:
         """The trajectory being sampled (None while inactive)."""
         return self._trajectory
+
+
+def _state_message(time: float, joints: list[str], desired: JointTrajectoryPoint, current: JointTrajectoryPoint,
+                   error: JointTrajectoryPoint, commands: tuple[list[float], list[float], list[float], list[float]],
+                   ) -> JointTrajectoryControllerState:
+    """:func:`controller_state_message` from the command values a cycle read (the output point is made here)."""
+    positions, velocities, accelerations, effort = commands
+    output = JointTrajectoryPoint(positions, velocities, accelerations, effort)
+    return controller_state_message(time, joints, desired, current, error, output)

@@ -65,6 +65,15 @@ class JointInterfaces:
         self._read_state = {k: value_reader(v) for k, v in self._states.items()}
         self._read_command = {k: value_reader(v) for k, v in self._commands.items()}
         self._write_command = {k: value_writer(v) for k, v in self._commands.items()}
+        read_s = self._read_state
+        #: The state readers of a cycle: positions; velocities (None without); accelerations (None without velocities
+        #: or without their own interfaces).
+        self._read_p = read_s["position"]
+        self._read_v = read_s.get("velocity")
+        self._read_a = read_s.get("acceleration") if self._read_v is not None else None
+        self._read_e = "effort" in self._commands
+        #: Per field of a point, the reader of its command interfaces (None: the controller does not command it).
+        self._command_readers = [self._read_command.get(kind) for kind in _POINT_KINDS]
 
     def command_values(self, kind: str, fill: float) -> list[float]:
         """Per joint, the value of its ``kind`` command interface, ``fill`` for joints without one."""
@@ -82,15 +91,10 @@ class JointInterfaces:
         Accelerations are read only together with velocities; the effort is the effort command (NaN for
         joints without one), as the state interfaces carry no effort.
         """
-        read = self._read_state
-        point = JointTrajectoryPoint(positions=read["position"]())
-        if "velocity" in read:
-            point.velocities = read["velocity"]()
-            if "acceleration" in read:
-                point.accelerations = read["acceleration"]()
-        if "effort" in self._commands:
-            point.effort = self.command_values("effort", math.nan)
-        return point
+        read_v, read_a = self._read_v, self._read_a
+        return JointTrajectoryPoint(self._read_p(), [] if read_v is None else read_v(),
+                                    [] if read_a is None else read_a(),
+                                    self.command_values("effort", math.nan) if self._read_e else [], 0.0)
 
     def state_from_commands(self) -> JointTrajectoryPoint | None:
         """The commands as a state (a controller restart), or None if a needed one is NaN.
@@ -129,12 +133,17 @@ class JointInterfaces:
 
     def command_point(self) -> JointTrajectoryPoint:
         """The current commands as a point (fields of the missing command kinds stay empty)."""
+        return JointTrajectoryPoint(*self.command_values_now())
+
+    def command_values_now(self) -> tuple[list[float], list[float], list[float], list[float]]:
+        """The current commands, per field of a point (:meth:`command_point` without the point: a cycle keeps the
+        numbers and builds the point only when someone reads its message)."""
         if self._identity:  # every joint commanded: each field is one read (the common case, in every cycle)
-            read = self._read_command
-            p, v, a, e = (read[kind]() if kind in read else [] for kind in _POINT_KINDS)
-        else:
-            p, v, a, e = (self.command_values(kind, math.nan) if kind in self._commands else [] for kind in _POINT_KINDS)
-        return JointTrajectoryPoint(p, v, a, e)
+            rp, rv, ra, re = self._command_readers
+            return (rp() if rp is not None else [], rv() if rv is not None else [], ra() if ra is not None else [],
+                    re() if re is not None else [])
+        p, v, a, e = (self.command_values(kind, math.nan) if kind in self._commands else [] for kind in _POINT_KINDS)
+        return p, v, a, e
 
     def write(self, kind: str, values: Sequence[float]) -> None:
         """Write per-joint ``values`` to the ``kind`` command interfaces; nothing if fewer values than joints."""

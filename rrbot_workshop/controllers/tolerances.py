@@ -165,18 +165,21 @@ def compute_state_error(
         positions = [shortest_angular_distance(cur[i], des[i]) if wraparound[i] else des[i] - cur[i] for i in range(n)]
     else:  # no continuous joint: the common case, in every cycle
         positions = [des[i] - cur[i] for i in range(n)]
-    err = JointTrajectoryPoint(positions=positions)
+    velocities: list[float] = []
     if has_state["velocity"]:
-        err.velocities = [0.0] * n
         # As upstream, the velocity error is only computed with a velocity or effort command, so
         # `stopped_velocity_tolerance` is not checked when the JTC commands positions.
         if has_command["velocity"] or has_command["effort"]:
-            err.velocities = [desired.velocities[i] - current.velocities[i] for i in range(n)]
+            velocities = [desired.velocities[i] - current.velocities[i] for i in range(n)]
+        else:
+            velocities = [0.0] * n
+    accelerations: list[float] = []
     if has_state["acceleration"]:
-        err.accelerations = [0.0] * n
         if has_command["acceleration"]:
-            err.accelerations = [desired.accelerations[i] - current.accelerations[i] for i in range(n)]
-    return err
+            accelerations = [desired.accelerations[i] - current.accelerations[i] for i in range(n)]
+        else:
+            accelerations = [0.0] * n
+    return JointTrajectoryPoint(positions, velocities, accelerations, [], 0.0)
 
 
 def check_state_tolerance_per_joint(
