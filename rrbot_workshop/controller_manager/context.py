@@ -14,6 +14,7 @@ from collections.abc import Iterable, Mapping
 from typing import Any, Protocol
 
 from rrbot_workshop.controller_interface.base import ControllerInterface
+from rrbot_workshop.controller_manager.claims import InterfaceClaims
 from rrbot_workshop.controller_manager.spec import (
     ControllerSpec,
     ControllerState,
@@ -40,6 +41,7 @@ class ManagerContext(Protocol):
     """The controller manager as its collaborators see it (implemented by ``ControllerManager``)."""
 
     resource_manager: ResourceManager
+    claims: InterfaceClaims
     bus: TopicBus
     clock: Clock
     params: ControllersConfig

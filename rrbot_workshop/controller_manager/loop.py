@@ -19,7 +19,6 @@ from time import perf_counter
 
 from rrbot_workshop.controller_interface.base import ControllerInterface
 from rrbot_workshop.controller_manager.chains import ChainGraph
-from rrbot_workshop.controller_manager.claims import deactivate_controller
 from rrbot_workshop.controller_manager.context import ManagerContext
 from rrbot_workshop.controller_manager.spec import ControllerSpec
 from rrbot_workshop.exceptions import ControllerError, SwitchError
@@ -122,7 +121,7 @@ def controllers_failed(cm: ManagerContext, failed: list[str]) -> None:
     group = cm.chain_group(failed)
     _log.error("controller(s) %s failed in update; deactivating %s", failed, group)
     for name in group:
-        deactivate_controller(cm.resource_manager, cm.controllers[name])
+        cm.claims.deactivate(cm.controllers[name])
     fallbacks = [fb for n in failed for fb in cm.controllers[n].fallback_controllers]
     fallbacks = [fb for i, fb in enumerate(fallbacks) if fb not in fallbacks[:i]]
     if fallbacks:
@@ -157,4 +156,4 @@ def hardware_failed(cm: ManagerContext, hardware: list[str], where: str, command
     if group:
         _log.error("hardware %s failed in %s; deactivating controllers %s", hardware, where, group)
     for name in group:
-        deactivate_controller(rm, cm.controllers[name])
+        cm.claims.deactivate(cm.controllers[name])

@@ -34,7 +34,7 @@ from rrbot_workshop.controller_manager import lifecycle as controller_lifecycle
 from rrbot_workshop.controller_manager import loop as controller_loop
 from rrbot_workshop.controller_manager.activity import ActivityReporter
 from rrbot_workshop.controller_manager.chains import ChainGraph
-from rrbot_workshop.controller_manager.claims import deactivate_controller, required_interfaces
+from rrbot_workshop.controller_manager.claims import InterfaceClaims
 from rrbot_workshop.controller_manager.explain import SwitchExplanation
 from rrbot_workshop.controller_manager.explain import explain_switch as _explain
 from rrbot_workshop.controller_manager.parameters import default_strictness, manager_flag
@@ -124,8 +124,10 @@ class ControllerManager:
             resource_manager.allow_controller_activation_with_inactive_hardware,
         )
         self._controllers: dict[str, ControllerSpec] = {}
+        #: Which interfaces a controller requires; claiming and releasing them (see controller_manager.claims).
+        self.claims = InterfaceClaims(resource_manager)
         #: The update order and the chains between the controllers (see controller_manager.chains.ChainGraph).
-        self._chains = ChainGraph(resource_manager, self._controllers)
+        self._chains = ChainGraph(resource_manager, self.claims, self._controllers)
         self._hooks: list[CycleHook] = []
         #: The compiled controllers' part of the cycle (see controller_manager.loop.ControllerLoop).
         self._loop = controller_loop.ControllerLoop(
@@ -176,11 +178,11 @@ class ControllerManager:
 
     def command_interface_names(self, spec: ControllerSpec) -> list[str]:
         """Command interfaces a configured controller asks for (resolved against the storage)."""
-        return required_interfaces(self.resource_manager, spec, "command")
+        return self.claims.command_interface_names(spec)
 
     def state_interface_names(self, spec: ControllerSpec) -> list[str]:
         """State interfaces a configured controller asks for (resolved against the storage)."""
-        return required_interfaces(self.resource_manager, spec, "state")
+        return self.claims.state_interface_names(spec)
 
     # ================================================================= lifecycle (steps in controller_lifecycle)
     @_reports_activity
@@ -413,7 +415,7 @@ class ControllerManager:
     def shutdown(self) -> None:
         """Deactivate every active controller (in update order) and unload them all."""
         for name in [n for n in self._chains.order if self._controllers[n].state is State.ACTIVE]:
-            deactivate_controller(self.resource_manager, self._controllers[name])
+            self.claims.deactivate(self._controllers[name])
         for name in reversed(list(self._chains.order)):
             try:
                 self.unload_controller(name)

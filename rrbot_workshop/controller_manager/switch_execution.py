@@ -12,7 +12,6 @@ from __future__ import annotations
 import logging
 from typing import Protocol
 
-from rrbot_workshop.controller_manager.claims import activate_controller, deactivate_controller
 from rrbot_workshop.controller_manager.context import ManagerContext
 from rrbot_workshop.controller_manager.spec import SwitchResult
 from rrbot_workshop.controller_manager.switch_chaining import dependency_order
@@ -50,7 +49,7 @@ def execute(request: SwitchRequest) -> SwitchResult:
             whether something changed.
     """
     cm, rm = request.cm, request.rm
-    controllers = cm.controllers
+    controllers, claims = cm.controllers, cm.claims
     start, stop = request.hardware_lists()
     if not rm.perform_command_mode_switch(start, stop):
         raise SwitchError([f"the hardware failed to perform the command mode switch: {rm.last_switch_error}"])
@@ -61,7 +60,7 @@ def execute(request: SwitchRequest) -> SwitchResult:
         if controllers[n].controller.is_chainable()
     }
     for name in reversed(dependency_order(cm, request.deactivate)):  # users before the controllers they use
-        deactivate_controller(rm, controllers[name])
+        claims.deactivate(controllers[name])
         result.deactivated.append(name)
     for name in sorted(request.must_chain):  # including followers restarted here (deactivation unchains them)
         ctrl = controllers[name].controller
@@ -75,7 +74,7 @@ def execute(request: SwitchRequest) -> SwitchResult:
     failed: list[str] = []
     changed_on_failure: list[str] = []  # a failed activation runs on_error: the controller leaves 'inactive'
     for name in dependency_order(cm, request.activate):  # exporters before the controllers that use them
-        reason = activate_controller(rm, controllers[name])
+        reason = claims.activate(controllers[name])
         if reason:
             failures.append(reason)
             failed.append(name)
@@ -110,16 +109,16 @@ def rollback(request: SwitchRequest, result: SwitchResult, was_chained: dict[str
         was_chained: Chained mode, before the switch, of the chainable controllers it touched.
     """
     cm, rm = request.cm, request.rm
-    controllers = cm.controllers
+    controllers, claims = cm.controllers, cm.claims
     for name in reversed(dependency_order(cm, result.activated)):
-        deactivate_controller(rm, controllers[name])
+        claims.deactivate(controllers[name])
     for name, chained in was_chained.items():
         ctrl = controllers[name].controller
         if ctrl.get_lifecycle_state() is not State.ACTIVE and ctrl.is_in_chained_mode() != chained:
             ctrl.set_chained_mode(chained)  # type: ignore[attr-defined]
     for name in dependency_order(cm, result.deactivated):
         if controllers[name].state is State.INACTIVE:
-            reason = activate_controller(rm, controllers[name])
+            reason = claims.activate(controllers[name])
             if reason:
                 _log.error("rollback could not re-activate '%s': %s", name, reason)
     start, stop = request.hardware_lists()
