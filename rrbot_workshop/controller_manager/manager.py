@@ -47,7 +47,7 @@ from rrbot_workshop.controller_manager.spec import (
     SwitchResult,
 )
 from rrbot_workshop.controller_manager.statistics import ControllerStatistics
-from rrbot_workshop.controller_manager.switch import switch_controllers as _switch
+from rrbot_workshop.controller_manager.switch import Switcher
 from rrbot_workshop.exceptions import ControllerError, ControllerNotFound, HardwareError, LifecycleError
 from rrbot_workshop.hardware_interface.resource_manager import ResourceManager
 from rrbot_workshop.middleware.clock import Clock, SimClock
@@ -110,8 +110,6 @@ class ControllerManager:
         handle_exceptions = bool(self.params.manager_parameters.get("handle_exceptions", handle_exceptions))
         #: Jazzy's ``enforce_command_limits`` (default false): limit commands from the description before write.
         self.enforce_command_limits = manager_flag(self.params, "enforce_command_limits", False)
-        #: ``defaults.switch_controller.strictness`` (Jazzy: best_effort): a switch asked with strictness 0 or None.
-        self.default_strictness = default_strictness(self.params)
         #: ``defaults.deactivate_controllers_on_hardware_self_deactivate`` (default true): a component that
         #: deactivates itself from ``write`` stops the controllers commanding it.
         self.deactivate_controllers_on_hardware_self_deactivate = manager_flag(
@@ -128,6 +126,9 @@ class ControllerManager:
         self.claims = InterfaceClaims(resource_manager)
         #: The update order and the chains between the controllers (see controller_manager.chains.ChainGraph).
         self._chains = ChainGraph(resource_manager, self.claims, self._controllers)
+        #: The switch logic: planning, chaining rules, execution (see controller_manager.switch.Switcher).
+        self._switcher = Switcher(self._controllers, self._chains, self.claims, resource_manager,
+                                  default_strictness(self.params))
         self._hooks: list[CycleHook] = []
         #: The compiled controllers' part of the cycle (see controller_manager.loop.ControllerLoop).
         self._loop = controller_loop.ControllerLoop(
@@ -152,6 +153,15 @@ class ControllerManager:
     def update_order(self) -> list[str]:
         """Controller names in update order (preceding controllers first)."""
         return list(self._chains.order)
+
+    @property
+    def default_strictness(self) -> str:
+        """``defaults.switch_controller.strictness`` (Jazzy: best_effort): a switch asked with strictness 0 or None."""
+        return self._switcher.default_strictness
+
+    @default_strictness.setter
+    def default_strictness(self, value: str) -> None:
+        self._switcher.default_strictness = value
 
     @property
     def handle_exceptions(self) -> bool:
@@ -289,7 +299,7 @@ class ControllerManager:
         """
         if isinstance(activate, str) or isinstance(deactivate, str):
             raise ControllerError("activate and deactivate take lists of controller names, not a single string")
-        return _switch(self, activate, deactivate, self.default_strictness if strictness in (None, 0) else strictness)
+        return self._switcher.switch(activate, deactivate, strictness)
 
     def explain_switch(
         self, activate: Iterable[str] = (), deactivate: Iterable[str] = (), strictness: str | int | None = None
@@ -297,7 +307,7 @@ class ControllerManager:
         """Say, without changing anything, whether this switch would go through under strict and best effort, and
         every reason it would not, with the facts behind them (see :mod:`~rrbot_workshop.controller_manager.explain`).
         """
-        return _explain(self, activate, deactivate, strictness)
+        return _explain(self._switcher, self._controllers, self.resource_manager, activate, deactivate, strictness)
 
     # ================================================================= the loop
     def add_cycle_hook(self, fn: CycleHook) -> Callable[[], None]:
