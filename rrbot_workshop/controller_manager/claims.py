@@ -57,7 +57,8 @@ class InterfaceClaims:
         except Exception:  # noqa: BLE001
             _log.error("%s_interface_configuration of '%s' raised:\n%s", kind, spec.name, traceback.format_exc())
             return []
-        if not hasattr(cfg, "type") or not hasattr(cfg, "names"):  # learner code returning something else: needs nothing
+        # learner code returning something else: needs nothing
+        if not hasattr(cfg, "type") or not hasattr(cfg, "names"):
             _log.error("%s_interface_configuration of '%s' returned %r, not an InterfaceConfiguration", kind, spec.name,
                        cfg)
             return []

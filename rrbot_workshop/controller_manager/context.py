@@ -14,6 +14,7 @@ from collections.abc import Iterable, Mapping
 from typing import Any, Protocol
 
 from rrbot_workshop.controller_interface.base import ControllerInterface
+from rrbot_workshop.controller_manager.activity import ActivitySink
 from rrbot_workshop.controller_manager.claims import InterfaceClaims
 from rrbot_workshop.controller_manager.spec import (
     ControllerSpec,
@@ -29,12 +30,6 @@ from rrbot_workshop.middleware.params import ControllersConfig
 from rrbot_workshop.middleware.topics import TopicBus
 
 __all__ = ["ManagerContext", "ActivitySink"]
-
-
-class ActivitySink(Protocol):
-    """Told after every request that may have changed a state (the ``~/activity`` publisher)."""
-
-    def check(self) -> bool: ...
 
 
 class ManagerContext(Protocol):

@@ -1,11 +1,11 @@
 """``explain_switch``: why a switch would (not) go through, asked without changing anything.
 
 The answer runs the controller manager's own switch planning (a :class:`~rrbot_workshop.controller_manager.switch.
-SwitchRequest` of its :class:`~rrbot_workshop.controller_manager.switch.Switcher`, steps 1-7 of ``switch_controllers``) twice, once per strictness, on the system as it is, and reports
-what each would do. Nothing is activated, deactivated, claimed or asked of the hardware: step 8 (the hardware's
-``prepare_command_mode_switch``) only runs in a real switch, because a driver may keep what it prepared for the
-``perform`` call that follows; :attr:`SwitchExplanation.hardware_not_asked` lists the interfaces it would be asked
-about.
+SwitchRequest` of its :class:`~rrbot_workshop.controller_manager.switch.Switcher`, steps 1-7 of ``switch_controllers``)
+twice, once per strictness, on the system as it is, and reports what each would do. Nothing is activated, deactivated,
+claimed or asked of the hardware: step 8 (the hardware's ``prepare_command_mode_switch``) only runs in a real switch,
+because a driver may keep what it prepared for the ``perform`` call that follows;
+:attr:`SwitchExplanation.hardware_not_asked` lists the interfaces it would be asked about.
 
 Each reason comes with the data behind it (:class:`Evidence`): who holds a claimed interface, the state of the
 hardware component behind an unavailable one, the state of a chain follower, the closest existing names for an

@@ -30,13 +30,13 @@ from typing import Any, TypeVar
 
 from rrbot_workshop.controller_interface.base import ControllerInterface
 from rrbot_workshop.controller_manager import introspection
-from rrbot_workshop.controller_manager import lifecycle as controller_lifecycle
 from rrbot_workshop.controller_manager import loop as controller_loop
 from rrbot_workshop.controller_manager.activity import ActivityReporter
 from rrbot_workshop.controller_manager.chains import ChainGraph
 from rrbot_workshop.controller_manager.claims import InterfaceClaims
 from rrbot_workshop.controller_manager.explain import SwitchExplanation
 from rrbot_workshop.controller_manager.explain import explain_switch as _explain
+from rrbot_workshop.controller_manager.lifecycle import ControllerLifecycle
 from rrbot_workshop.controller_manager.parameters import default_strictness, manager_flag
 from rrbot_workshop.controller_manager.services import register_services
 from rrbot_workshop.controller_manager.spec import (
@@ -48,7 +48,7 @@ from rrbot_workshop.controller_manager.spec import (
 )
 from rrbot_workshop.controller_manager.statistics import ControllerStatistics
 from rrbot_workshop.controller_manager.switch import Switcher
-from rrbot_workshop.exceptions import ControllerError, ControllerNotFound, HardwareError, LifecycleError
+from rrbot_workshop.exceptions import ControllerError, HardwareError, LifecycleError
 from rrbot_workshop.hardware_interface.resource_manager import ResourceManager
 from rrbot_workshop.middleware.clock import Clock, SimClock
 from rrbot_workshop.middleware.lifecycle import State
@@ -138,7 +138,12 @@ class ControllerManager:
         )
         register_services(self)
         #: Publishes ``/controller_manager/activity`` when a controller or hardware component changes state.
-        self.activity = ActivityReporter(self)
+        self.activity = ActivityReporter(self.bus, self.clock, self._controllers, resource_manager)
+        #: Load, configure, cleanup, unload, set_state: the registry's writer (see controller_manager.lifecycle).
+        self._lifecycle = ControllerLifecycle(
+            self._controllers, self._chains, resource_manager, self.params, self.bus, self.clock, robot_description,
+            self.update_rate, self.activity, switch=lambda **request: self.switch_controllers(**request),
+        )
 
     # ================================================================= lookup
     @property
@@ -172,19 +177,13 @@ class ControllerManager:
     def handle_exceptions(self, value: bool) -> None:
         self._loop.handle_exceptions = bool(value)
 
-    def _spec(self, name: str) -> ControllerSpec:
-        try:
-            return self._controllers[name]
-        except KeyError:
-            raise ControllerNotFound(name, self._controllers) from None
-
     def get_controller(self, name: str) -> ControllerInterface:
         """The controller instance called ``name``.
 
         Raises:
             ControllerNotFound: If no such controller is loaded.
         """
-        return self._spec(name).controller
+        return self._lifecycle.spec(name).controller
 
     def command_interface_names(self, spec: ControllerSpec) -> list[str]:
         """Command interfaces a configured controller asks for (resolved against the storage)."""
@@ -194,7 +193,7 @@ class ControllerManager:
         """State interfaces a configured controller asks for (resolved against the storage)."""
         return self.claims.state_interface_names(spec)
 
-    # ================================================================= lifecycle (steps in controller_lifecycle)
+    # ================================================================= lifecycle (ControllerLifecycle)
     @_reports_activity
     def load_controller(self, name: str, type: str | None = None) -> ControllerInterface:  # noqa: A002
         """Create controller ``name`` of plugin ``type`` (from the controllers YAML if None) and run ``on_init``.
@@ -204,11 +203,7 @@ class ControllerManager:
             ControllerNotFound: If no type is given and the YAML declares none for ``name``.
             ParameterError: If the parameters do not match the controller's declarations.
         """
-        spec = controller_lifecycle.create(self, name, type)
-        self._controllers[name] = spec
-        self._chains.loaded(name)
-        _log.info("loaded controller '%s' (%s)", name, spec.type)
-        return spec.controller
+        return self._lifecycle.load(name, type).controller
 
     @_reports_activity
     def configure_controller(self, name: str) -> None:
@@ -220,11 +215,7 @@ class ControllerManager:
             ControllerError: If it is active or finalized, ``on_configure`` fails, or its exports are invalid.
             ParameterError: If its parameters fail validation.
         """
-        spec = self._spec(name)
-        if spec.state is State.INACTIVE:
-            self.cleanup_controller(name)
-        controller_lifecycle.configure(self.resource_manager, spec)
-        self._chains.rebuild()
+        self._lifecycle.configure(name)
 
     @_reports_activity
     def cleanup_controller(self, name: str) -> None:
@@ -234,8 +225,7 @@ class ControllerManager:
             ControllerNotFound: If it is not loaded.
             ControllerError: If it is not inactive.
         """
-        controller_lifecycle.cleanup(self.resource_manager, self._spec(name))
-        self._chains.rebuild()
+        self._lifecycle.cleanup(name)
 
     @_reports_activity
     def unload_controller(self, name: str) -> None:
@@ -245,14 +235,7 @@ class ControllerManager:
             ControllerNotFound: If it is not loaded.
             ControllerError: If it is active.
         """
-        spec = self._spec(name)
-        if spec.state is State.ACTIVE:
-            raise ControllerError(f"controller '{name}' is active and cannot be unloaded; deactivate it first")
-        if spec.state is State.INACTIVE:
-            self.cleanup_controller(name)
-        controller_lifecycle.shutdown(spec)
-        del self._controllers[name]
-        self._chains.unloaded(name)
+        self._lifecycle.unload(name)
 
     @_reports_activity
     def set_controller_state(self, name: str, state: str | State) -> None:
@@ -264,7 +247,7 @@ class ControllerManager:
                 its state (or fails).
             SwitchError: If activation or deactivation is rejected.
         """
-        controller_lifecycle.set_state(self, self._spec(name), state)
+        self._lifecycle.set_state(name, state)
 
     # ================================================================= switching
     @_reports_activity

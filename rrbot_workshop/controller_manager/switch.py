@@ -292,7 +292,8 @@ class Switcher:
         chains: The manager's chain graph (the update order).
         claims: Which interfaces each controller requires; claiming and releasing them.
         rm: The resource manager.
-        default_strictness: What a switch asked with strictness None or 0 gets (``defaults.switch_controller.strictness``).
+        default_strictness: What a switch asked with strictness None or 0 gets
+            (``defaults.switch_controller.strictness``).
     """
 
     def __init__(self, controllers: Mapping[str, ControllerSpec], chains: ChainGraph, claims: InterfaceClaims,
