@@ -11,12 +11,12 @@ that reaches the asked state.
 from __future__ import annotations
 
 import logging
-from collections.abc import Callable
 from typing import Any
 
 from rrbot_workshop.controller_manager.activity import ActivitySink
 from rrbot_workshop.controller_manager.chains import ChainGraph
-from rrbot_workshop.controller_manager.spec import ControllerSpec, SwitchResult
+from rrbot_workshop.controller_manager.spec import ControllerSpec
+from rrbot_workshop.controller_manager.switch import SwitchCall
 from rrbot_workshop.exceptions import ControllerError, ControllerNotFound, LifecycleError, PluginNotFound
 from rrbot_workshop.hardware_interface.resource_manager import ResourceManager
 from rrbot_workshop.middleware import plugins
@@ -25,14 +25,10 @@ from rrbot_workshop.middleware.lifecycle import CallbackReturn, State
 from rrbot_workshop.middleware.params import ControllersConfig
 from rrbot_workshop.middleware.topics import TopicBus
 
-__all__ = ["ControllerLifecycle", "SwitchCall"]
+__all__ = ["ControllerLifecycle"]
 
 # The controller manager's messages keep the logger name they had before it was split into modules.
 _log = logging.getLogger("rrbot_workshop.controller_manager.manager")
-
-#: A switch as the manager's ``switch_controllers`` takes it (``activate=``, ``deactivate=``, ``strictness=``).
-SwitchCall = Callable[..., SwitchResult]
-
 
 class ControllerLifecycle:
     """The registry side of the controllers' lifecycles: load, configure, clean up, unload, set a state.

@@ -30,13 +30,14 @@ from typing import Any, TypeVar
 
 from rrbot_workshop.controller_interface.base import ControllerInterface
 from rrbot_workshop.controller_manager import introspection
-from rrbot_workshop.controller_manager import loop as controller_loop
 from rrbot_workshop.controller_manager.activity import ActivityReporter
 from rrbot_workshop.controller_manager.chains import ChainGraph
 from rrbot_workshop.controller_manager.claims import InterfaceClaims
 from rrbot_workshop.controller_manager.explain import SwitchExplanation
 from rrbot_workshop.controller_manager.explain import explain_switch as _explain
+from rrbot_workshop.controller_manager.failures import FailurePath
 from rrbot_workshop.controller_manager.lifecycle import ControllerLifecycle
+from rrbot_workshop.controller_manager.loop import ControllerLoop
 from rrbot_workshop.controller_manager.parameters import default_strictness, manager_flag
 from rrbot_workshop.controller_manager.services import register_services
 from rrbot_workshop.controller_manager.spec import (
@@ -130,19 +131,24 @@ class ControllerManager:
         self._switcher = Switcher(self._controllers, self._chains, self.claims, resource_manager,
                                   default_strictness(self.params))
         self._hooks: list[CycleHook] = []
-        #: The compiled controllers' part of the cycle (see controller_manager.loop.ControllerLoop).
-        self._loop = controller_loop.ControllerLoop(
-            self._controllers, self._chains, self.update_rate,
-            on_failed=lambda names: controller_loop.controllers_failed(self, names),
-            handle_exceptions=handle_exceptions,
-        )
         register_services(self)
         #: Publishes ``/controller_manager/activity`` when a controller or hardware component changes state.
         self.activity = ActivityReporter(self.bus, self.clock, self._controllers, resource_manager)
+        # what must call back up goes through the public switch_controllers (activity reported, spies see it)
+        switch = lambda **request: self.switch_controllers(**request)  # noqa: E731
         #: Load, configure, cleanup, unload, set_state: the registry's writer (see controller_manager.lifecycle).
         self._lifecycle = ControllerLifecycle(
             self._controllers, self._chains, resource_manager, self.params, self.bus, self.clock, robot_description,
-            self.update_rate, self.activity, switch=lambda **request: self.switch_controllers(**request),
+            self.update_rate, self.activity, switch,
+        )
+        #: What a failed controller or failed hardware stops (see controller_manager.failures.FailurePath).
+        self._failures = FailurePath(self._controllers, self._chains, self.claims, resource_manager, switch,
+                                     self.activity)
+        #: The compiled controllers' part of the cycle (see controller_manager.loop.ControllerLoop).
+        self._loop = ControllerLoop(
+            self._controllers, self._chains, self.update_rate,
+            on_failed=self._failures.controllers_failed,
+            handle_exceptions=handle_exceptions,
         )
 
     # ================================================================= lookup
@@ -307,7 +313,7 @@ class ControllerManager:
         """Read all hardware; controllers using failed hardware are deactivated."""
         status = self.resource_manager.read_cycle(time, period)
         if status is not None:
-            controller_loop.hardware_failed(self, status.failed_hardware_names, "read")
+            self._failures.hardware_failed(status.failed_hardware_names, "read")
             self.activity.check()
 
     def write(self, time: float, period: float) -> None:
@@ -317,14 +323,8 @@ class ControllerManager:
             self.resource_manager.enforce_command_limits(period)
         status = self.resource_manager.write_cycle(time, period)
         if status is not None:
-            rm = self.resource_manager
-            # a component left INACTIVE deactivated itself (DEACTIVATE); one that failed went through error()
-            quiet = [h for h in status.failed_hardware_names if rm.get_component(h).get_lifecycle_state() is State.INACTIVE]
-            failed = [h for h in status.failed_hardware_names if h not in quiet]
-            if failed:
-                controller_loop.hardware_failed(self, failed, "write")
-            if quiet and self.deactivate_controllers_on_hardware_self_deactivate:
-                controller_loop.hardware_failed(self, quiet, "write", commanders_only=True)
+            self._failures.write_failed(status.failed_hardware_names,
+                                        self.deactivate_controllers_on_hardware_self_deactivate)
             self.activity.check()
 
     def update_controllers(self, time: float, period: float) -> None:

@@ -30,7 +30,7 @@ the planned request.
 from __future__ import annotations
 
 import logging
-from collections.abc import Iterable, Mapping
+from collections.abc import Callable, Iterable, Mapping
 from typing import Any
 
 from rrbot_workshop.controller_manager.chains import ChainGraph
@@ -42,9 +42,13 @@ from rrbot_workshop.exceptions import ControllerError, SwitchError
 from rrbot_workshop.hardware_interface.resource_manager import ResourceManager
 from rrbot_workshop.middleware.lifecycle import State
 
-__all__ = ["STRICTNESS", "SwitchRequest", "Switcher", "normalize_strictness"]
+__all__ = ["STRICTNESS", "SwitchCall", "SwitchRequest", "Switcher", "normalize_strictness"]
 
 _log = logging.getLogger(__name__)
+
+#: A switch asked as the manager's ``switch_controllers`` takes it (``activate=``, ``deactivate=``, ``strictness=``): how
+#: the collaborators that must switch (``set_state``, the fallbacks of a failed controller) go back through the manager.
+SwitchCall = Callable[..., SwitchResult]
 
 #: Accepted strictness values (``controller_manager_msgs/SwitchController``: 1 BEST_EFFORT, 2 STRICT,
 #: 3 AUTO and 4 FORCE_AUTO act as BEST_EFFORT in Jazzy).
