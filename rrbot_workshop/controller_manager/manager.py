@@ -39,7 +39,7 @@ from rrbot_workshop.controller_manager.failures import FailurePath
 from rrbot_workshop.controller_manager.lifecycle import ControllerLifecycle
 from rrbot_workshop.controller_manager.loop import ControllerLoop
 from rrbot_workshop.controller_manager.parameters import default_strictness, manager_flag
-from rrbot_workshop.controller_manager.services import register_services
+from rrbot_workshop.controller_manager.services import SERVICE_CALLS, register_services
 from rrbot_workshop.controller_manager.spec import (
     ControllerSpec,
     ControllerState,
@@ -124,25 +124,25 @@ class ControllerManager:
         )
         self._controllers: dict[str, ControllerSpec] = {}
         #: Which interfaces a controller requires; claiming and releasing them (see controller_manager.claims).
-        self.claims = InterfaceClaims(resource_manager)
+        self._claims = InterfaceClaims(resource_manager)
         #: The update order and the chains between the controllers (see controller_manager.chains.ChainGraph).
-        self._chains = ChainGraph(resource_manager, self.claims, self._controllers)
+        self._chains = ChainGraph(resource_manager, self._claims, self._controllers)
         #: The switch logic: planning, chaining rules, execution (see controller_manager.switch.Switcher).
-        self._switcher = Switcher(self._controllers, self._chains, self.claims, resource_manager,
+        self._switcher = Switcher(self._controllers, self._chains, self._claims, resource_manager,
                                   default_strictness(self.params))
         self._hooks: list[CycleHook] = []
-        register_services(self)
+        register_services(self.bus, **{name: self._late(name) for name in SERVICE_CALLS},
+                          hardware_state=lambda name: resource_manager.get_component(name).get_lifecycle_state())
         #: Publishes ``/controller_manager/activity`` when a controller or hardware component changes state.
         self.activity = ActivityReporter(self.bus, self.clock, self._controllers, resource_manager)
-        # what must call back up goes through the public switch_controllers (activity reported, spies see it)
-        switch = lambda **request: self.switch_controllers(**request)  # noqa: E731
+        switch = self._late("switch_controllers")  # set_state and the fallbacks switch as a caller of the manager would
         #: Load, configure, cleanup, unload, set_state: the registry's writer (see controller_manager.lifecycle).
         self._lifecycle = ControllerLifecycle(
             self._controllers, self._chains, resource_manager, self.params, self.bus, self.clock, robot_description,
             self.update_rate, self.activity, switch,
         )
         #: What a failed controller or failed hardware stops (see controller_manager.failures.FailurePath).
-        self._failures = FailurePath(self._controllers, self._chains, self.claims, resource_manager, switch,
+        self._failures = FailurePath(self._controllers, self._chains, self._claims, resource_manager, switch,
                                      self.activity)
         #: The compiled controllers' part of the cycle (see controller_manager.loop.ControllerLoop).
         self._loop = ControllerLoop(
@@ -150,6 +150,10 @@ class ControllerManager:
             on_failed=self._failures.controllers_failed,
             handle_exceptions=handle_exceptions,
         )
+
+    def _late(self, method: str) -> Callable[..., Any]:
+        """Call this manager's ``method`` as it is at the time of the call (an instance may have it replaced)."""
+        return lambda *args, **kwargs: getattr(self, method)(*args, **kwargs)
 
     # ================================================================= lookup
     @property
@@ -193,11 +197,11 @@ class ControllerManager:
 
     def command_interface_names(self, spec: ControllerSpec) -> list[str]:
         """Command interfaces a configured controller asks for (resolved against the storage)."""
-        return self.claims.command_interface_names(spec)
+        return self._claims.command_interface_names(spec)
 
     def state_interface_names(self, spec: ControllerSpec) -> list[str]:
         """State interfaces a configured controller asks for (resolved against the storage)."""
-        return self.claims.state_interface_names(spec)
+        return self._claims.state_interface_names(spec)
 
     # ================================================================= lifecycle (ControllerLifecycle)
     @_reports_activity
@@ -364,7 +368,7 @@ class ControllerManager:
     # ================================================================= introspection
     def list_controllers(self) -> list[ControllerState]:
         """``ControllerState`` of each controller, in update order."""
-        return introspection.list_controllers(self)
+        return introspection.list_controllers(self._controllers, self._chains.order, self._claims, self.resource_manager)
 
     def controller_statistics(self) -> dict[str, ControllerStatistics]:
         """Each loaded controller's update periods [s] and execution times [µs] since its last activation."""
@@ -372,11 +376,11 @@ class ControllerManager:
 
     def list_hardware_components(self) -> list[HardwareComponentState]:
         """``HardwareComponentState`` of each hardware component."""
-        return introspection.list_hardware_components(self)
+        return introspection.list_hardware_components(self.resource_manager)
 
     def list_hardware_interfaces(self) -> HardwareInterfaces:
         """All command and state interfaces with availability and claims."""
-        return introspection.list_hardware_interfaces(self)
+        return introspection.list_hardware_interfaces(self.resource_manager)
 
     def list_controller_types(self) -> list[tuple[str, str]]:
         """``(type, base_class)`` of every controller plugin."""
@@ -384,7 +388,8 @@ class ControllerManager:
 
     def view_controller_chains(self) -> str:
         """Graphviz DOT text of the controller chains."""
-        return introspection.view_controller_chains(self)
+        records = introspection.list_controllers(self._controllers, self._chains.order, self._claims, self.resource_manager)
+        return introspection.view_controller_chains(records, self.resource_manager)
 
     @_reports_activity
     def set_hardware_component_state(self, name: str, state: str | State) -> bool:
@@ -408,7 +413,7 @@ class ControllerManager:
     def shutdown(self) -> None:
         """Deactivate every active controller (in update order) and unload them all."""
         for name in [n for n in self._chains.order if self._controllers[n].state is State.ACTIVE]:
-            self.claims.deactivate(self._controllers[name])
+            self._claims.deactivate(self._controllers[name])
         for name in reversed(list(self._chains.order)):
             try:
                 self.unload_controller(name)
