@@ -9,8 +9,9 @@ from the last one sent.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
-from typing import Protocol
+import functools
+from collections.abc import Callable, Mapping
+from typing import Any, Protocol, TypeVar
 
 from rrbot_workshop.controller_manager.spec import ControllerSpec
 from rrbot_workshop.hardware_interface.resource_manager import ResourceManager
@@ -19,7 +20,7 @@ from rrbot_workshop.middleware.lifecycle import State
 from rrbot_workshop.middleware.topics import TopicBus
 from rrbot_workshop.msgs import ControllerManagerActivity, Header, LifecycleState, NamedLifecycleState
 
-__all__ = ["ACTIVITY_TOPIC", "ActivityReporter", "ActivitySink"]
+__all__ = ["ACTIVITY_TOPIC", "ActivityReporter", "ActivitySink", "reports_activity"]
 
 #: The topic, as ``~/activity`` of the node ``/controller_manager``.
 ACTIVITY_TOPIC = "/controller_manager/activity"
@@ -35,6 +36,23 @@ class ActivitySink(Protocol):
     """Told after every request that may have changed a state (the ``~/activity`` publisher)."""
 
     def check(self) -> bool: ...
+
+
+_F = TypeVar("_F", bound=Callable[..., Any])
+
+
+def reports_activity(method: _F) -> _F:
+    """Decorates a method of an object that has an ``activity`` sink: after the call, successful or not, the sink is
+    told (it publishes the activity message if a state changed)."""
+
+    @functools.wraps(method)
+    def wrapper(self: Any, *args: Any, **kwargs: Any) -> Any:
+        try:
+            return method(self, *args, **kwargs)
+        finally:
+            self.activity.check()
+
+    return wrapper  # type: ignore[return-value]
 
 
 class ActivityReporter:

@@ -11,34 +11,34 @@ returns ERROR is deactivated together with the controllers chained to it, its tr
 its ``fallback_controllers`` are activated and the loop goes on. Hardware that fails in ``read`` or
 ``write`` takes the controllers that use it down the same way.
 
-This class keeps the registry of loaded controllers and their update order, and offers the public
-API; the steps live next to it: :mod:`~rrbot_workshop.controller_manager.lifecycle` (load, configure,
-cleanup, shutdown), :mod:`~rrbot_workshop.controller_manager.claims` (which interfaces a controller needs;
-claiming them on activation), :mod:`~rrbot_workshop.controller_manager.chains` (update order and chain
-groups), :mod:`~rrbot_workshop.controller_manager.loop` (rates and failures in a cycle),
-:mod:`~rrbot_workshop.controller_manager.introspection` and :mod:`~rrbot_workshop.controller_manager.services`.
+This class is the public API over the objects it composes, each handed what it needs: the registry of loaded
+controllers (a dict they share), :class:`~rrbot_workshop.controller_manager.claims.InterfaceClaims`,
+:class:`~rrbot_workshop.controller_manager.chains.ChainGraph`, :class:`~rrbot_workshop.controller_manager.switch.
+Switcher`, :class:`~rrbot_workshop.controller_manager.lifecycle.ControllerLifecycle`,
+:class:`~rrbot_workshop.controller_manager.failures.FailurePath`, :class:`~rrbot_workshop.controller_manager.loop.
+ControllerLoop`, :class:`~rrbot_workshop.controller_manager.hooks.CycleHooks`, the ``~/activity`` reporter and the
+services.
 """
 
 from __future__ import annotations
 
-import functools
 import logging
-import traceback
 from collections.abc import Callable, Iterable, Mapping
 from types import MappingProxyType
-from typing import Any, TypeVar
+from typing import Any
 
 from rrbot_workshop.controller_interface.base import ControllerInterface
 from rrbot_workshop.controller_manager import introspection
-from rrbot_workshop.controller_manager.activity import ActivityReporter
+from rrbot_workshop.controller_manager.activity import ActivityReporter, reports_activity
 from rrbot_workshop.controller_manager.chains import ChainGraph
 from rrbot_workshop.controller_manager.claims import InterfaceClaims
 from rrbot_workshop.controller_manager.explain import SwitchExplanation
 from rrbot_workshop.controller_manager.explain import explain_switch as _explain
 from rrbot_workshop.controller_manager.failures import FailurePath
+from rrbot_workshop.controller_manager.hooks import CycleHook, CycleHooks
 from rrbot_workshop.controller_manager.lifecycle import ControllerLifecycle
 from rrbot_workshop.controller_manager.loop import ControllerLoop
-from rrbot_workshop.controller_manager.parameters import default_strictness, manager_flag
+from rrbot_workshop.controller_manager.parameters import ManagerParameters
 from rrbot_workshop.controller_manager.services import SERVICE_CALLS, register_services
 from rrbot_workshop.controller_manager.spec import (
     ControllerSpec,
@@ -59,25 +59,6 @@ from rrbot_workshop.middleware.topics import TopicBus
 __all__ = ["ControllerManager"]
 
 _log = logging.getLogger(__name__)
-
-CycleHook = Callable[[float, float], None]
-
-
-_F = TypeVar("_F", bound=Callable[..., Any])
-
-
-def _reports_activity(method: _F) -> _F:
-    """After the call, successful or not, publish the activity message if a state changed."""
-
-    @functools.wraps(method)
-    def wrapper(self: ControllerManager, *args: Any, **kwargs: Any) -> Any:
-        try:
-            return method(self, *args, **kwargs)
-        finally:
-            self.activity.check()
-
-    return wrapper  # type: ignore[return-value]
-
 
 class ControllerManager:
     """Controllers, their lifecycles and chain order, and the control loop.
@@ -104,52 +85,32 @@ class ControllerManager:
     ) -> None:
         self.params = params if params is not None else ControllersConfig()
         self.update_rate = int(update_rate if update_rate is not None else self.params.update_rate)
-        self.resource_manager = resource_manager
+        self.resource_manager = rm = resource_manager
         self.bus = bus if bus is not None else TopicBus()
         self.robot_description = robot_description
         self.clock = clock if clock is not None else SimClock(self.update_rate)
-        handle_exceptions = bool(self.params.manager_parameters.get("handle_exceptions", handle_exceptions))
-        #: Jazzy's ``enforce_command_limits`` (default false): limit commands from the description before write.
-        self.enforce_command_limits = manager_flag(self.params, "enforce_command_limits", False)
-        #: ``defaults.deactivate_controllers_on_hardware_self_deactivate`` (default true): a component that
-        #: deactivates itself from ``write`` stops the controllers commanding it.
-        self.deactivate_controllers_on_hardware_self_deactivate = manager_flag(
-            self.params, "defaults.deactivate_controllers_on_hardware_self_deactivate", True
-        )
-        #: ``defaults.allow_controller_activation_with_inactive_hardware`` (default false), applied by the resource
-        #: manager when a switch claims command interfaces of an INACTIVE component.
-        resource_manager.allow_controller_activation_with_inactive_hardware = manager_flag(
-            self.params, "defaults.allow_controller_activation_with_inactive_hardware",
-            resource_manager.allow_controller_activation_with_inactive_hardware,
-        )
+        own = ManagerParameters.read(self.params, handle_exceptions, rm.allow_controller_activation_with_inactive_hardware)
+        #: Jazzy's ``enforce_command_limits`` (see controller_manager.parameters.ManagerParameters, as the next ones).
+        self.enforce_command_limits = own.enforce_command_limits
+        self.deactivate_controllers_on_hardware_self_deactivate = own.deactivate_controllers_on_hardware_self_deactivate
+        rm.allow_controller_activation_with_inactive_hardware = own.allow_controller_activation_with_inactive_hardware
+        #: The registry of loaded controllers, in load order, shared with the objects below (the lifecycle writes it).
         self._controllers: dict[str, ControllerSpec] = {}
-        #: Which interfaces a controller requires; claiming and releasing them (see controller_manager.claims).
-        self._claims = InterfaceClaims(resource_manager)
-        #: The update order and the chains between the controllers (see controller_manager.chains.ChainGraph).
-        self._chains = ChainGraph(resource_manager, self._claims, self._controllers)
-        #: The switch logic: planning, chaining rules, execution (see controller_manager.switch.Switcher).
-        self._switcher = Switcher(self._controllers, self._chains, self._claims, resource_manager,
-                                  default_strictness(self.params))
-        self._hooks: list[CycleHook] = []
+        self._claims = InterfaceClaims(rm)
+        self._chains = ChainGraph(rm, self._claims, self._controllers)
+        self._switcher = Switcher(self._controllers, self._chains, self._claims, rm, own.default_strictness)
+        self._hooks = CycleHooks()
         register_services(self.bus, **{name: self._late(name) for name in SERVICE_CALLS},
-                          hardware_state=lambda name: resource_manager.get_component(name).get_lifecycle_state())
+                          hardware_state=lambda name: rm.get_component(name).get_lifecycle_state())
         #: Publishes ``/controller_manager/activity`` when a controller or hardware component changes state.
-        self.activity = ActivityReporter(self.bus, self.clock, self._controllers, resource_manager)
+        self.activity = ActivityReporter(self.bus, self.clock, self._controllers, rm)
         switch = self._late("switch_controllers")  # set_state and the fallbacks switch as a caller of the manager would
-        #: Load, configure, cleanup, unload, set_state: the registry's writer (see controller_manager.lifecycle).
-        self._lifecycle = ControllerLifecycle(
-            self._controllers, self._chains, resource_manager, self.params, self.bus, self.clock, robot_description,
-            self.update_rate, self.activity, switch,
-        )
-        #: What a failed controller or failed hardware stops (see controller_manager.failures.FailurePath).
-        self._failures = FailurePath(self._controllers, self._chains, self._claims, resource_manager, switch,
-                                     self.activity)
-        #: The compiled controllers' part of the cycle (see controller_manager.loop.ControllerLoop).
-        self._loop = ControllerLoop(
-            self._controllers, self._chains, self.update_rate,
-            on_failed=self._failures.controllers_failed,
-            handle_exceptions=handle_exceptions,
-        )
+        self._lifecycle = ControllerLifecycle(self._controllers, self._chains, rm, self.params, self.bus, self.clock,
+                                              robot_description, self.update_rate, self.activity, switch)
+        self._failures = FailurePath(self._controllers, self._chains, self._claims, rm, switch, self.activity)
+        self._loop = ControllerLoop(self._controllers, self._chains, self.update_rate,
+                                    on_failed=self._failures.controllers_failed,
+                                    handle_exceptions=own.handle_exceptions)
 
     def _late(self, method: str) -> Callable[..., Any]:
         """Call this manager's ``method`` as it is at the time of the call (an instance may have it replaced)."""
@@ -204,7 +165,7 @@ class ControllerManager:
         return self._claims.state_interface_names(spec)
 
     # ================================================================= lifecycle (ControllerLifecycle)
-    @_reports_activity
+    @reports_activity
     def load_controller(self, name: str, type: str | None = None) -> ControllerInterface:  # noqa: A002
         """Create controller ``name`` of plugin ``type`` (from the controllers YAML if None) and run ``on_init``.
 
@@ -215,7 +176,7 @@ class ControllerManager:
         """
         return self._lifecycle.load(name, type).controller
 
-    @_reports_activity
+    @reports_activity
     def configure_controller(self, name: str) -> None:
         """Configure ``name`` (cleaning it up first if inactive); export a chainable controller's
         interfaces into the resource manager and rebuild the update order.
@@ -227,7 +188,7 @@ class ControllerManager:
         """
         self._lifecycle.configure(name)
 
-    @_reports_activity
+    @reports_activity
     def cleanup_controller(self, name: str) -> None:
         """inactive -> unconfigured; its exported interfaces are removed.
 
@@ -237,7 +198,7 @@ class ControllerManager:
         """
         self._lifecycle.cleanup(name)
 
-    @_reports_activity
+    @reports_activity
     def unload_controller(self, name: str) -> None:
         """Clean up (if inactive), shut down and forget controller ``name``.
 
@@ -247,7 +208,7 @@ class ControllerManager:
         """
         self._lifecycle.unload(name)
 
-    @_reports_activity
+    @reports_activity
     def set_controller_state(self, name: str, state: str | State) -> None:
         """Bring a controller to ``"unconfigured"``, ``"inactive"`` or ``"active"`` (``ros2 control set_controller_state``).
 
@@ -260,7 +221,7 @@ class ControllerManager:
         self._lifecycle.set_state(name, state)
 
     # ================================================================= switching
-    @_reports_activity
+    @reports_activity
     def switch_controllers(
         self,
         activate: Iterable[str] = (),
@@ -305,13 +266,7 @@ class ControllerManager:
     # ================================================================= the loop
     def add_cycle_hook(self, fn: CycleHook) -> Callable[[], None]:
         """Call ``fn(time, period)`` after every cycle (recorders, viewers). Returns a remover."""
-        self._hooks.append(fn)
-
-        def remove() -> None:
-            if fn in self._hooks:
-                self._hooks.remove(fn)
-
-        return remove
+        return self._hooks.add(fn)
 
     def read(self, time: float, period: float) -> None:
         """Read all hardware; controllers using failed hardware are deactivated."""
@@ -354,12 +309,7 @@ class ControllerManager:
         self.read(time, period)
         self._loop.update(time, period)
         self.write(time, period)
-        if self._hooks:
-            for hook in list(self._hooks):
-                try:
-                    hook(time, period)
-                except Exception:  # noqa: BLE001 - a plotting hook must not stop the robot
-                    _log.error("cycle hook %r raised:\n%s", hook, traceback.format_exc())
+        self._hooks.run(time, period)
 
     def chain_group(self, names: Iterable[str]) -> list[str]:
         """``names`` and every active controller chained to them (either direction), in update order."""
@@ -391,7 +341,7 @@ class ControllerManager:
         records = introspection.list_controllers(self._controllers, self._chains.order, self._claims, self.resource_manager)
         return introspection.view_controller_chains(records, self.resource_manager)
 
-    @_reports_activity
+    @reports_activity
     def set_hardware_component_state(self, name: str, state: str | State) -> bool:
         """Drive hardware component ``name`` to ``state`` (``"unconfigured"``, ``"inactive"``, ``"active"``, ``"finalized"``).
 
