@@ -324,7 +324,8 @@ class Switcher:
         """
         if strictness is None or strictness == 0:
             strictness = self.default_strictness
-        switch = self.request(activate, deactivate, normalize_strictness(strictness))
+        asked = list(activate), list(deactivate)  # read before the strictness is checked, as the manager always did
+        switch = self.request(*asked, normalize_strictness(strictness))
         planned = switch.plan()
         for line in switch.skipped:
             _log.warning("switch_controllers (best effort) skipped: %s", line)
