@@ -9,11 +9,18 @@ from the last one sent.
 
 from __future__ import annotations
 
-from rrbot_workshop.controller_manager.context import ManagerContext
+import functools
+from collections.abc import Callable, Mapping
+from typing import Any, Protocol, TypeVar
+
+from rrbot_workshop.controller_manager.spec import ControllerSpec
+from rrbot_workshop.hardware_interface.resource_manager import ResourceManager
+from rrbot_workshop.middleware.clock import Clock
 from rrbot_workshop.middleware.lifecycle import State
+from rrbot_workshop.middleware.topics import TopicBus
 from rrbot_workshop.msgs import ControllerManagerActivity, Header, LifecycleState, NamedLifecycleState
 
-__all__ = ["ACTIVITY_TOPIC", "ActivityReporter"]
+__all__ = ["ACTIVITY_TOPIC", "ActivityReporter", "ActivitySink", "reports_activity"]
 
 #: The topic, as ``~/activity`` of the node ``/controller_manager``.
 ACTIVITY_TOPIC = "/controller_manager/activity"
@@ -25,21 +32,50 @@ def _named(items: tuple[tuple[str, State], ...]) -> list[NamedLifecycleState]:
     return [NamedLifecycleState(name, LifecycleState(state.id, state.label)) for name, state in items]
 
 
+class ActivitySink(Protocol):
+    """Told after every request that may have changed a state (the ``~/activity`` publisher)."""
+
+    def check(self) -> bool: ...
+
+
+_F = TypeVar("_F", bound=Callable[..., Any])
+
+
+def reports_activity(method: _F) -> _F:
+    """Decorates a method of an object that has an ``activity`` sink: after the call, successful or not, the sink is
+    told (it publishes the activity message if a state changed)."""
+
+    @functools.wraps(method)
+    def wrapper(self: Any, *args: Any, **kwargs: Any) -> Any:
+        try:
+            return method(self, *args, **kwargs)
+        finally:
+            self.activity.check()
+
+    return wrapper  # type: ignore[return-value]
+
+
 class ActivityReporter:
     """Publishes the manager's activity message when a state changed since the last one.
 
     Args:
-        cm: The controller manager whose controllers and hardware components are reported.
+        bus: The bus the message is published on.
+        clock: The stamp of each message.
+        controllers: The manager's loaded controllers by name (the live mapping), reported in load order.
+        rm: The resource manager whose hardware components are reported.
     """
 
-    def __init__(self, cm: ManagerContext) -> None:
-        self._cm = cm
-        self._pub = cm.bus.create_publisher(ControllerManagerActivity, ACTIVITY_TOPIC, owner="controller_manager")
+    def __init__(self, bus: TopicBus, clock: Clock, controllers: Mapping[str, ControllerSpec],
+                 rm: ResourceManager) -> None:
+        self._clock = clock
+        self._controllers = controllers
+        self._rm = rm
+        self._pub = bus.create_publisher(ControllerManagerActivity, ACTIVITY_TOPIC, owner="controller_manager")
         self._last: _Snapshot | None = None
 
     def _snapshot(self) -> _Snapshot:
-        rm = self._cm.resource_manager
-        controllers = tuple((name, spec.state) for name, spec in self._cm.controllers.items())
+        rm = self._rm
+        controllers = tuple((name, spec.state) for name, spec in self._controllers.items())
         hardware = tuple((name, rm.get_component(name).get_lifecycle_state()) for name in rm.component_names())
         return controllers, hardware
 
@@ -50,7 +86,7 @@ class ActivityReporter:
             return False
         self._last = snapshot
         self._pub.publish(ControllerManagerActivity(
-            header=Header(stamp=self._cm.clock.now()),
+            header=Header(stamp=self._clock.now()),
             controllers=_named(snapshot[0]),
             hardware_components=_named(snapshot[1]),
         ))

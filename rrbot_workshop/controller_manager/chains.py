@@ -1,6 +1,6 @@
 """Chain order: which controllers update before which, and which are chained together.
 
-:class:`ChainGraph` owns one manager's update order; the functions below work it out.
+:class:`ChainGraph` owns one manager's update order and works it out.
 
 A controller that claims another's reference interfaces updates before it (it writes the
 references the other reads in the same cycle); a controller that reads another's exported state
@@ -14,82 +14,17 @@ import logging
 from collections.abc import Iterable, Mapping
 from typing import TYPE_CHECKING
 
-from rrbot_workshop.controller_manager.claims import required_interfaces
+from rrbot_workshop.controller_manager.claims import InterfaceClaims
 from rrbot_workshop.controller_manager.spec import ControllerSpec
 from rrbot_workshop.middleware.lifecycle import State
 
 if TYPE_CHECKING:
     from rrbot_workshop.hardware_interface.resource_manager import ResourceManager
 
-__all__ = ["ChainGraph", "update_order", "chain_group"]
+__all__ = ["ChainGraph"]
 
 # The controller manager's messages keep the logger name they had before it was split into modules.
 _log = logging.getLogger("rrbot_workshop.controller_manager.manager")
-
-
-def update_order(rm: ResourceManager, controllers: Mapping[str, ControllerSpec]) -> list[str]:
-    """Controller names in topological order, preceding controllers first; ties keep load order.
-
-    Args:
-        rm: The resource manager that knows which controller exports which interface.
-        controllers: Loaded controllers by name, in load order.
-
-    Returns:
-        Every name of ``controllers``; the members of a chaining loop (logged) keep their load order.
-    """
-    names = list(controllers)
-    before: dict[str, set[str]] = {n: set() for n in names}  # n -> controllers that must run before n
-    for name in names:
-        spec = controllers[name]
-        for itf in required_interfaces(rm, spec, "command"):
-            owner = rm.controller_of_interface(itf)
-            if owner in before and owner != name:
-                before[owner].add(name)  # name claims owner's reference: name runs first
-        for itf in required_interfaces(rm, spec, "state"):
-            owner = rm.controller_of_interface(itf)
-            if owner in before and owner != name:
-                before[name].add(owner)  # name reads owner's exported state: owner runs first
-    order: list[str] = []
-    remaining = list(names)
-    while remaining:
-        ready = next((n for n in remaining if not (before[n] - set(order))), None)
-        if ready is None:
-            _log.error("controllers %s form a chaining loop; keeping their load order", remaining)
-            order += remaining
-            break
-        order.append(ready)
-        remaining.remove(ready)
-    return order
-
-
-def chain_group(
-    rm: ResourceManager, controllers: Mapping[str, ControllerSpec], order: list[str], names: Iterable[str]
-) -> list[str]:
-    """``names`` and every active controller chained to them (either direction), in update order.
-
-    Args:
-        rm: The resource manager that knows which controller exports which interface.
-        controllers: Loaded controllers by name.
-        order: Controller names in update order.
-        names: The controllers to start from.
-    """
-    active = [n for n in order if controllers[n].state is State.ACTIVE]
-    links: dict[str, set[str]] = {n: set() for n in active}
-    for n in active:
-        spec = controllers[n]
-        for itf in [*required_interfaces(rm, spec, "command"), *required_interfaces(rm, spec, "state")]:
-            owner = rm.controller_of_interface(itf)
-            if owner in links and owner != n:
-                links[n].add(owner)
-                links[owner].add(n)
-    group = set(names)
-    todo = [n for n in group if n in links]
-    while todo:
-        for other in links[todo.pop()]:
-            if other not in group:
-                group.add(other)
-                todo.append(other)
-    return [n for n in order if n in group]
 
 
 class ChainGraph:
@@ -101,11 +36,13 @@ class ChainGraph:
 
     Args:
         rm: The resource manager that knows which controller exports which interface.
+        claims: Which interfaces each controller uses.
         controllers: The manager's loaded controllers by name (the live mapping).
     """
 
-    def __init__(self, rm: ResourceManager, controllers: Mapping[str, ControllerSpec]) -> None:
+    def __init__(self, rm: ResourceManager, claims: InterfaceClaims, controllers: Mapping[str, ControllerSpec]) -> None:
         self._rm = rm
+        self._claims = claims
         self._controllers = controllers
         self._order: list[str] = []
         #: Number of changes of the order so far.
@@ -128,9 +65,56 @@ class ChainGraph:
 
     def rebuild(self) -> None:
         """Work the order out again (after a configure or a cleanup)."""
-        self._order = update_order(self._rm, self._controllers)
+        self._order = self._work_out_order()
         self.version += 1
+
+    def _work_out_order(self) -> list[str]:
+        """Controller names in topological order, preceding controllers first; ties keep load order.
+
+        Every loaded controller is in it; the members of a chaining loop (logged) keep their load order.
+        """
+        rm, required, controllers = self._rm, self._claims.required, self._controllers
+        names = list(controllers)
+        before: dict[str, set[str]] = {n: set() for n in names}  # n -> controllers that must run before n
+        for name in names:
+            spec = controllers[name]
+            for itf in required(spec, "command"):
+                owner = rm.controller_of_interface(itf)
+                if owner in before and owner != name:
+                    before[owner].add(name)  # name claims owner's reference: name runs first
+            for itf in required(spec, "state"):
+                owner = rm.controller_of_interface(itf)
+                if owner in before and owner != name:
+                    before[name].add(owner)  # name reads owner's exported state: owner runs first
+        order: list[str] = []
+        remaining = list(names)
+        while remaining:
+            ready = next((n for n in remaining if not (before[n] - set(order))), None)
+            if ready is None:
+                _log.error("controllers %s form a chaining loop; keeping their load order", remaining)
+                order += remaining
+                break
+            order.append(ready)
+            remaining.remove(ready)
+        return order
 
     def group(self, names: Iterable[str]) -> list[str]:
         """``names`` and every active controller chained to them (either direction), in update order."""
-        return chain_group(self._rm, self._controllers, self._order, names)
+        rm, required, controllers, order = self._rm, self._claims.required, self._controllers, self._order
+        active = [n for n in order if controllers[n].state is State.ACTIVE]
+        links: dict[str, set[str]] = {n: set() for n in active}
+        for n in active:
+            spec = controllers[n]
+            for itf in [*required(spec, "command"), *required(spec, "state")]:
+                owner = rm.controller_of_interface(itf)
+                if owner in links and owner != n:
+                    links[n].add(owner)
+                    links[owner].add(n)
+        group = set(names)
+        todo = [n for n in group if n in links]
+        while todo:
+            for other in links[todo.pop()]:
+                if other not in group:
+                    group.add(other)
+                    todo.append(other)
+        return [n for n in order if n in group]

@@ -1,11 +1,11 @@
 """``explain_switch``: why a switch would (not) go through, asked without changing anything.
 
-The answer runs the controller manager's own switch planning (:class:`~rrbot_workshop.controller_manager.switch.
-SwitchRequest`, steps 1-7 of ``switch_controllers``) twice, once per strictness, on the system as it is, and reports
-what each would do. Nothing is activated, deactivated, claimed or asked of the hardware: step 8 (the hardware's
-``prepare_command_mode_switch``) only runs in a real switch, because a driver may keep what it prepared for the
-``perform`` call that follows; :attr:`SwitchExplanation.hardware_not_asked` lists the interfaces it would be asked
-about.
+The answer runs the controller manager's own switch planning (a :class:`~rrbot_workshop.controller_manager.switch.
+SwitchRequest` of its :class:`~rrbot_workshop.controller_manager.switch.Switcher`, steps 1-7 of ``switch_controllers``)
+twice, once per strictness, on the system as it is, and reports what each would do. Nothing is activated, deactivated,
+claimed or asked of the hardware: step 8 (the hardware's ``prepare_command_mode_switch``) only runs in a real switch,
+because a driver may keep what it prepared for the ``perform`` call that follows;
+:attr:`SwitchExplanation.hardware_not_asked` lists the interfaces it would be asked about.
 
 Each reason comes with the data behind it (:class:`Evidence`): who holds a claimed interface, the state of the
 hardware component behind an unavailable one, the state of a chain follower, the closest existing names for an
@@ -16,12 +16,13 @@ from __future__ import annotations
 
 import difflib
 import re
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 
-from rrbot_workshop.controller_manager.context import ManagerContext
-from rrbot_workshop.controller_manager.switch import SwitchRequest, normalize_strictness
+from rrbot_workshop.controller_manager.spec import ControllerSpec
+from rrbot_workshop.controller_manager.switch import Switcher, normalize_strictness
 from rrbot_workshop.exceptions import ControllerError, RRBotWorkshopError, SwitchError
+from rrbot_workshop.hardware_interface.resource_manager import ResourceManager
 
 __all__ = ["Evidence", "Outcome", "SwitchExplanation", "explain_switch"]
 
@@ -129,10 +130,10 @@ def _closest(name: str, names: Iterable[str]) -> list[str]:
 
 
 def _outcome(
-    cm: ManagerContext, activate: list[str], deactivate: list[str], strictness: str, hardware: list[str]
+    switcher: Switcher, activate: list[str], deactivate: list[str], strictness: str, hardware: list[str]
 ) -> tuple[Outcome, list[str], list[str]]:
     """Plan the request; returns the outcome and the controllers and interfaces its reasons involve."""
-    request = SwitchRequest(cm, activate, deactivate, strictness)
+    request = switcher.request(activate, deactivate, strictness)
     try:
         if request.plan(ask_hardware=False):
             start, _stop = request.hardware_lists()
@@ -146,14 +147,14 @@ def _outcome(
     return Outcome(strictness, True, list(request.activate), list(request.deactivate), list(request.skipped)), [], []
 
 
-def _evidence(cm: ManagerContext, asked: list[str], controllers: list[str], interfaces: list[str]) -> list[Evidence]:
-    rm = cm.resource_manager
+def _evidence(loaded: Mapping[str, ControllerSpec], rm: ResourceManager, asked: list[str], controllers: list[str],
+              interfaces: list[str]) -> list[Evidence]:
     facts: list[Evidence] = []
     for name in dict.fromkeys([*asked, *controllers]):
-        if name in cm.controllers:
-            facts.append(Evidence(f"controller '{name}'", f"is '{cm.controllers[name].state.label}'"))
+        if name in loaded:
+            facts.append(Evidence(f"controller '{name}'", f"is '{loaded[name].state.label}'"))
         else:
-            close = _closest(name, cm.controllers)
+            close = _closest(name, loaded)
             facts.append(
                 Evidence(f"controller '{name}'", "is not loaded" + (f"; did you mean {close}?" if close else ""))
             )
@@ -175,15 +176,17 @@ def _evidence(cm: ManagerContext, asked: list[str], controllers: list[str], inte
                 )
             )
         owner = rm.controller_of_interface(itf)
-        if owner is not None and owner in cm.controllers:
+        if owner is not None and owner in loaded:
             facts.append(
-                Evidence(f"controller '{owner}'", f"is '{cm.controllers[owner].state.label}' (it exports '{itf}')")
+                Evidence(f"controller '{owner}'", f"is '{loaded[owner].state.label}' (it exports '{itf}')")
             )
     return list(dict.fromkeys(facts))
 
 
 def explain_switch(
-    cm: ManagerContext,
+    switcher: Switcher,
+    controllers: Mapping[str, ControllerSpec],
+    rm: ResourceManager,
     activate: Iterable[str] = (),
     deactivate: Iterable[str] = (),
     strictness: str | int | None = None,
@@ -191,7 +194,9 @@ def explain_switch(
     """Would ``switch_controllers(activate, deactivate, strictness)`` go through, and if not, why?
 
     Args:
-        cm: The controller manager.
+        switcher: The manager's switch logic, whose planning is run.
+        controllers: The loaded controllers by name.
+        rm: The resource manager (interfaces, holders, hardware components).
         activate: Controllers to activate, as for ``switch_controllers``.
         deactivate: Controllers to deactivate.
         strictness: Accepted for the same call shape; both strictnesses are always explained.
@@ -213,7 +218,7 @@ def explain_switch(
     outcomes = []
     for mode in ("strict", "best_effort"):
         try:
-            outcome, ctrls, itfs = _outcome(cm, act, deact, mode, hardware)
+            outcome, ctrls, itfs = _outcome(switcher, act, deact, mode, hardware)
         except RRBotWorkshopError as exc:  # a controller whose interface configuration cannot be read, etc.
             outcome, ctrls, itfs = Outcome(mode, False, reasons=[str(exc)]), [], []
         outcomes.append(outcome)
@@ -222,12 +227,12 @@ def explain_switch(
     strict, best = outcomes
     # controllers a reason names (a chain follower, a preceding controller), leaving out "(loaded: [...])" lists
     said = [re.sub(r"\(loaded: [^)]*\)", "", r) for r in [*strict.reasons, *best.reasons]]
-    named = [n for n in cm.controllers if any(f"'{n}'" in r for r in said)]
-    components = [n for n in cm.resource_manager.component_names() if any(f"component '{n}'" in r for r in said)]
-    evidence = _evidence(cm, [*act, *deact], [*involved, *named], interfaces)
+    named = [n for n in controllers if any(f"'{n}'" in r for r in said)]
+    components = [n for n in rm.component_names() if any(f"component '{n}'" in r for r in said)]
+    evidence = _evidence(controllers, rm, [*act, *deact], [*involved, *named], interfaces)
     evidence += [
         Evidence(
-            f"hardware component '{n}'", f"is '{cm.resource_manager.get_component(n).get_lifecycle_state().label}'"
+            f"hardware component '{n}'", f"is '{rm.get_component(n).get_lifecycle_state().label}'"
         )
         for n in components
     ]

@@ -1,22 +1,25 @@
 """What the controller manager's ``list_*`` services and ``view_controller_chains`` report.
 
-Pure functions of a :class:`~rrbot_workshop.controller_manager.manager.ControllerManager`: they read its
-controllers and its resource manager and build the ``controller_manager_msgs``-shaped records of
-:mod:`rrbot_workshop.controller_manager.spec`, or graphviz DOT text for the chain diagram.
+Pure functions of what they are handed (the controllers, their update order, the claims, the resource manager):
+they build the ``controller_manager_msgs``-shaped records of :mod:`rrbot_workshop.controller_manager.spec`, or
+graphviz DOT text for the chain diagram.
 """
 
 from __future__ import annotations
 
 import logging
+from collections.abc import Iterable, Mapping
 
-from rrbot_workshop.controller_manager.context import ManagerContext
+from rrbot_workshop.controller_manager.claims import InterfaceClaims
 from rrbot_workshop.controller_manager.spec import (
     ChainConnection,
+    ControllerSpec,
     ControllerState,
     HardwareComponentState,
     HardwareInterface,
     HardwareInterfaces,
 )
+from rrbot_workshop.hardware_interface.resource_manager import ResourceManager
 from rrbot_workshop.middleware import plugins
 from rrbot_workshop.middleware.lifecycle import State
 
@@ -35,12 +38,19 @@ def _strip(prefix: str, names: list[str]) -> list[str]:
     return [n[len(prefix) + 1:] if n.startswith(prefix + "/") else n for n in names]
 
 
-def list_controllers(cm: ManagerContext) -> list[ControllerState]:
-    """One :class:`ControllerState` per loaded controller, in update order (preceding controllers first)."""
-    rm = cm.resource_manager
+def list_controllers(controllers: Mapping[str, ControllerSpec], order: Iterable[str], claims: InterfaceClaims,
+                     rm: ResourceManager) -> list[ControllerState]:
+    """One :class:`ControllerState` per loaded controller, in update order (preceding controllers first).
+
+    Args:
+        controllers: The loaded controllers by name.
+        order: Their names in update order.
+        claims: Which interfaces each controller requires.
+        rm: The resource manager (exported interfaces and who exports what).
+    """
     out = []
-    for name in cm.update_order():
-        spec = cm.controllers[name]
+    for name in order:
+        spec = controllers[name]
         ctrl = spec.controller
         state = spec.state
         entry = ControllerState(
@@ -55,8 +65,8 @@ def list_controllers(cm: ManagerContext) -> list[ControllerState]:
         if state is State.ACTIVE:
             entry.claimed_interfaces = [loan.name for loan in ctrl.command_interfaces]
         if state in (State.INACTIVE, State.ACTIVE):
-            entry.required_command_interfaces = cm.command_interface_names(spec)
-            entry.required_state_interfaces = cm.state_interface_names(spec)
+            entry.required_command_interfaces = claims.command_interface_names(spec)
+            entry.required_state_interfaces = claims.state_interface_names(spec)
             entry.reference_interfaces = _strip(name, rm.get_controller_reference_interface_names(name))
             entry.exported_state_interfaces = _strip(name, rm.get_controller_exported_state_interface_names(name))
             connections: dict[str, list[str]] = {}
@@ -69,9 +79,8 @@ def list_controllers(cm: ManagerContext) -> list[ControllerState]:
     return out
 
 
-def list_hardware_components(cm: ManagerContext) -> list[HardwareComponentState]:
-    """One :class:`HardwareComponentState` per hardware component, in load order."""
-    rm = cm.resource_manager
+def list_hardware_components(rm: ResourceManager) -> list[HardwareComponentState]:
+    """One :class:`HardwareComponentState` per hardware component of ``rm``, in load order."""
     out = []
     for name, info in rm.get_components_status().items():
         out.append(
@@ -97,9 +106,8 @@ def list_hardware_components(cm: ManagerContext) -> list[HardwareComponentState]
     return out
 
 
-def list_hardware_interfaces(cm: ManagerContext) -> HardwareInterfaces:
-    """Every command interface (hardware and controller references) and state interface, sorted by name."""
-    rm = cm.resource_manager
+def list_hardware_interfaces(rm: ResourceManager) -> HardwareInterfaces:
+    """Every command interface (hardware and controller references) and state interface of ``rm``, sorted by name."""
     return HardwareInterfaces(
         command_interfaces=[
             HardwareInterface(
@@ -153,15 +161,18 @@ def _record(title: str, inputs: list[tuple[str, str]], outputs: list[tuple[str, 
     return esc(title) + ("|{" + "|".join(cols) + "}" if cols else "")
 
 
-def view_controller_chains(cm: ManagerContext) -> str:
+def view_controller_chains(controllers: list[ControllerState], rm: ResourceManager) -> str:
     """Graphviz DOT text of controllers, their chain connections and the hardware interfaces they use.
 
     Every configured controller is a record node with its inputs (state and reference interfaces) on
     the left and its outputs (command and exported state interfaces) on the right; edges go from
     whoever writes or exports an interface to whoever reads or claims it, as ``ros2 control
     view_controller_chains`` draws it.
+
+    Args:
+        controllers: The records of :func:`list_controllers`.
+        rm: The resource manager (who exports an interface).
     """
-    rm = cm.resource_manager
     lines = [
         "digraph controller_chains {",
         '  graph [rankdir="LR", ranksep="2"];',
@@ -170,7 +181,7 @@ def view_controller_chains(cm: ManagerContext) -> str:
     hw_cmd: set[str] = set()
     hw_state: set[str] = set()
     edges: list[str] = []
-    for entry in list_controllers(cm):
+    for entry in controllers:
         if entry.state not in ("inactive", "active"):
             continue
         name = entry.name

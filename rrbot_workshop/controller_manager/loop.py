@@ -7,7 +7,8 @@ time since its last update. As with ros2_control's ``handle_exceptions``, a cont
 logged, and its ``fallback_controllers`` are activated in one strict switch. Hardware that fails in
 ``read`` or ``write`` deactivates the active controllers holding its interfaces, with their chain groups; hardware
 that deactivates itself from ``write`` stops only the controllers commanding it (if
-``deactivate_controllers_on_hardware_self_deactivate``, Jazzy's default).
+``deactivate_controllers_on_hardware_self_deactivate``, Jazzy's default). The loop finds the failed controllers;
+what they stop is :class:`~rrbot_workshop.controller_manager.failures.FailurePath`'s.
 """
 
 from __future__ import annotations
@@ -19,15 +20,12 @@ from time import perf_counter
 
 from rrbot_workshop.controller_interface.base import ControllerInterface
 from rrbot_workshop.controller_manager.chains import ChainGraph
-from rrbot_workshop.controller_manager.claims import deactivate_controller
-from rrbot_workshop.controller_manager.context import ManagerContext
 from rrbot_workshop.controller_manager.spec import ControllerSpec
 from rrbot_workshop.controller_manager.statistics import ControllerStatistics
-from rrbot_workshop.exceptions import ControllerError, SwitchError
 from rrbot_workshop.middleware.clock import rate_due
 from rrbot_workshop.middleware.lifecycle import TRANSITIONS, ReturnType, State
 
-__all__ = ["ControllerLoop", "controllers_failed", "hardware_failed"]
+__all__ = ["ControllerLoop"]
 
 FOLD_EVERY = ControllerStatistics.FOLD_EVERY
 
@@ -120,46 +118,3 @@ class ControllerLoop:
                 failed.append(name)
         if failed:
             self._on_failed(failed)
-
-
-def controllers_failed(cm: ManagerContext, failed: list[str]) -> None:
-    """Deactivate ``failed`` controllers with their chain group, then activate their fallbacks (strict)."""
-    group = cm.chain_group(failed)
-    _log.error("controller(s) %s failed in update; deactivating %s", failed, group)
-    for name in group:
-        deactivate_controller(cm.resource_manager, cm.controllers[name])
-    fallbacks = [fb for n in failed for fb in cm.controllers[n].fallback_controllers]
-    fallbacks = [fb for i, fb in enumerate(fallbacks) if fb not in fallbacks[:i]]
-    if fallbacks:
-        try:
-            cm.switch_controllers(activate=fallbacks, strictness="strict")
-            _log.warning("activated fallback controllers %s", fallbacks)
-        except (SwitchError, ControllerError) as exc:
-            _log.error("could not activate fallback controllers %s: %s", fallbacks, exc)
-    cm.activity.check()
-
-
-def hardware_failed(cm: ManagerContext, hardware: list[str], where: str, commanders_only: bool = False) -> None:
-    """Deactivate the active controllers holding interfaces of failed ``hardware``, with their chain groups.
-
-    Args:
-        cm: The controller manager.
-        hardware: Names of the hardware components that failed.
-        where: ``"read"`` or ``"write"``, for the log.
-        commanders_only: Only controllers that command the hardware (a component that deactivated itself from
-            ``write`` is INACTIVE: its states stay readable, so broadcasters keep running).
-    """
-    rm = cm.resource_manager
-    users = []
-    for name in cm.update_order():
-        ctrl = cm.controllers[name].controller
-        if ctrl.get_lifecycle_state() is not State.ACTIVE:
-            continue
-        loans = [*ctrl.command_interfaces] if commanders_only else [*ctrl.command_interfaces, *ctrl.state_interfaces]
-        if any(rm.hardware_of_interface(loan.name) in hardware for loan in loans):
-            users.append(name)
-    group = cm.chain_group(users)
-    if group:
-        _log.error("hardware %s failed in %s; deactivating controllers %s", hardware, where, group)
-    for name in group:
-        deactivate_controller(rm, cm.controllers[name])

@@ -11,34 +11,35 @@ returns ERROR is deactivated together with the controllers chained to it, its tr
 its ``fallback_controllers`` are activated and the loop goes on. Hardware that fails in ``read`` or
 ``write`` takes the controllers that use it down the same way.
 
-This class keeps the registry of loaded controllers and their update order, and offers the public
-API; the steps live next to it: :mod:`~rrbot_workshop.controller_manager.lifecycle` (load, configure,
-cleanup, shutdown), :mod:`~rrbot_workshop.controller_manager.claims` (which interfaces a controller needs;
-claiming them on activation), :mod:`~rrbot_workshop.controller_manager.chains` (update order and chain
-groups), :mod:`~rrbot_workshop.controller_manager.loop` (rates and failures in a cycle),
-:mod:`~rrbot_workshop.controller_manager.introspection` and :mod:`~rrbot_workshop.controller_manager.services`.
+This class is the public API over the objects it composes, each handed what it needs: the registry of loaded
+controllers (a dict they share), :class:`~rrbot_workshop.controller_manager.claims.InterfaceClaims`,
+:class:`~rrbot_workshop.controller_manager.chains.ChainGraph`, :class:`~rrbot_workshop.controller_manager.switch.
+Switcher`, :class:`~rrbot_workshop.controller_manager.lifecycle.ControllerLifecycle`,
+:class:`~rrbot_workshop.controller_manager.failures.FailurePath`, :class:`~rrbot_workshop.controller_manager.loop.
+ControllerLoop`, :class:`~rrbot_workshop.controller_manager.hooks.CycleHooks`, the ``~/activity`` reporter and the
+services.
 """
 
 from __future__ import annotations
 
-import functools
 import logging
-import traceback
 from collections.abc import Callable, Iterable, Mapping
 from types import MappingProxyType
-from typing import Any, TypeVar
+from typing import Any
 
 from rrbot_workshop.controller_interface.base import ControllerInterface
 from rrbot_workshop.controller_manager import introspection
-from rrbot_workshop.controller_manager import lifecycle as controller_lifecycle
-from rrbot_workshop.controller_manager import loop as controller_loop
-from rrbot_workshop.controller_manager.activity import ActivityReporter
+from rrbot_workshop.controller_manager.activity import ActivityReporter, reports_activity
 from rrbot_workshop.controller_manager.chains import ChainGraph
-from rrbot_workshop.controller_manager.claims import deactivate_controller, required_interfaces
+from rrbot_workshop.controller_manager.claims import InterfaceClaims
 from rrbot_workshop.controller_manager.explain import SwitchExplanation
 from rrbot_workshop.controller_manager.explain import explain_switch as _explain
-from rrbot_workshop.controller_manager.parameters import default_strictness, manager_flag
-from rrbot_workshop.controller_manager.services import register_services
+from rrbot_workshop.controller_manager.failures import FailurePath
+from rrbot_workshop.controller_manager.hooks import CycleHook, CycleHooks
+from rrbot_workshop.controller_manager.lifecycle import ControllerLifecycle
+from rrbot_workshop.controller_manager.loop import ControllerLoop
+from rrbot_workshop.controller_manager.parameters import ManagerParameters
+from rrbot_workshop.controller_manager.services import SERVICE_CALLS, register_services
 from rrbot_workshop.controller_manager.spec import (
     ControllerSpec,
     ControllerState,
@@ -47,8 +48,8 @@ from rrbot_workshop.controller_manager.spec import (
     SwitchResult,
 )
 from rrbot_workshop.controller_manager.statistics import ControllerStatistics
-from rrbot_workshop.controller_manager.switch import switch_controllers as _switch
-from rrbot_workshop.exceptions import ControllerError, ControllerNotFound, HardwareError, LifecycleError
+from rrbot_workshop.controller_manager.switch import Switcher
+from rrbot_workshop.exceptions import ControllerError, HardwareError, LifecycleError
 from rrbot_workshop.hardware_interface.resource_manager import ResourceManager
 from rrbot_workshop.middleware.clock import Clock, SimClock
 from rrbot_workshop.middleware.lifecycle import State
@@ -58,25 +59,6 @@ from rrbot_workshop.middleware.topics import TopicBus
 __all__ = ["ControllerManager"]
 
 _log = logging.getLogger(__name__)
-
-CycleHook = Callable[[float, float], None]
-
-
-_F = TypeVar("_F", bound=Callable[..., Any])
-
-
-def _reports_activity(method: _F) -> _F:
-    """After the call, successful or not, publish the activity message if a state changed."""
-
-    @functools.wraps(method)
-    def wrapper(self: ControllerManager, *args: Any, **kwargs: Any) -> Any:
-        try:
-            return method(self, *args, **kwargs)
-        finally:
-            self.activity.check()
-
-    return wrapper  # type: ignore[return-value]
-
 
 class ControllerManager:
     """Controllers, their lifecycles and chain order, and the control loop.
@@ -103,39 +85,36 @@ class ControllerManager:
     ) -> None:
         self.params = params if params is not None else ControllersConfig()
         self.update_rate = int(update_rate if update_rate is not None else self.params.update_rate)
-        self.resource_manager = resource_manager
+        self.resource_manager = rm = resource_manager
         self.bus = bus if bus is not None else TopicBus()
         self.robot_description = robot_description
         self.clock = clock if clock is not None else SimClock(self.update_rate)
-        handle_exceptions = bool(self.params.manager_parameters.get("handle_exceptions", handle_exceptions))
-        #: Jazzy's ``enforce_command_limits`` (default false): limit commands from the description before write.
-        self.enforce_command_limits = manager_flag(self.params, "enforce_command_limits", False)
-        #: ``defaults.switch_controller.strictness`` (Jazzy: best_effort): a switch asked with strictness 0 or None.
-        self.default_strictness = default_strictness(self.params)
-        #: ``defaults.deactivate_controllers_on_hardware_self_deactivate`` (default true): a component that
-        #: deactivates itself from ``write`` stops the controllers commanding it.
-        self.deactivate_controllers_on_hardware_self_deactivate = manager_flag(
-            self.params, "defaults.deactivate_controllers_on_hardware_self_deactivate", True
-        )
-        #: ``defaults.allow_controller_activation_with_inactive_hardware`` (default false), applied by the resource
-        #: manager when a switch claims command interfaces of an INACTIVE component.
-        resource_manager.allow_controller_activation_with_inactive_hardware = manager_flag(
-            self.params, "defaults.allow_controller_activation_with_inactive_hardware",
-            resource_manager.allow_controller_activation_with_inactive_hardware,
-        )
+        own = ManagerParameters.read(self.params, handle_exceptions, rm.allow_controller_activation_with_inactive_hardware)
+        #: Jazzy's ``enforce_command_limits`` (see controller_manager.parameters.ManagerParameters, as the next ones).
+        self.enforce_command_limits = own.enforce_command_limits
+        self.deactivate_controllers_on_hardware_self_deactivate = own.deactivate_controllers_on_hardware_self_deactivate
+        rm.allow_controller_activation_with_inactive_hardware = own.allow_controller_activation_with_inactive_hardware
+        #: The registry of loaded controllers, in load order, shared with the objects below (the lifecycle writes it).
         self._controllers: dict[str, ControllerSpec] = {}
-        #: The update order and the chains between the controllers (see controller_manager.chains.ChainGraph).
-        self._chains = ChainGraph(resource_manager, self._controllers)
-        self._hooks: list[CycleHook] = []
-        #: The compiled controllers' part of the cycle (see controller_manager.loop.ControllerLoop).
-        self._loop = controller_loop.ControllerLoop(
-            self._controllers, self._chains, self.update_rate,
-            on_failed=lambda names: controller_loop.controllers_failed(self, names),
-            handle_exceptions=handle_exceptions,
-        )
-        register_services(self)
+        self._claims = InterfaceClaims(rm)
+        self._chains = ChainGraph(rm, self._claims, self._controllers)
+        self._switcher = Switcher(self._controllers, self._chains, self._claims, rm, own.default_strictness)
+        self._hooks = CycleHooks()
+        register_services(self.bus, **{name: self._late(name) for name in SERVICE_CALLS},
+                          hardware_state=lambda name: rm.get_component(name).get_lifecycle_state())
         #: Publishes ``/controller_manager/activity`` when a controller or hardware component changes state.
-        self.activity = ActivityReporter(self)
+        self.activity = ActivityReporter(self.bus, self.clock, self._controllers, rm)
+        switch = self._late("switch_controllers")  # set_state and the fallbacks switch as a caller of the manager would
+        self._lifecycle = ControllerLifecycle(self._controllers, self._chains, rm, self.params, self.bus, self.clock,
+                                              robot_description, self.update_rate, self.activity, switch)
+        self._failures = FailurePath(self._controllers, self._chains, self._claims, rm, switch, self.activity)
+        self._loop = ControllerLoop(self._controllers, self._chains, self.update_rate,
+                                    on_failed=self._failures.controllers_failed,
+                                    handle_exceptions=own.handle_exceptions)
+
+    def _late(self, method: str) -> Callable[..., Any]:
+        """Call this manager's ``method`` as it is at the time of the call (an instance may have it replaced)."""
+        return lambda *args, **kwargs: getattr(self, method)(*args, **kwargs)
 
     # ================================================================= lookup
     @property
@@ -152,6 +131,15 @@ class ControllerManager:
         return list(self._chains.order)
 
     @property
+    def default_strictness(self) -> str:
+        """``defaults.switch_controller.strictness`` (Jazzy: best_effort): a switch asked with strictness 0 or None."""
+        return self._switcher.default_strictness
+
+    @default_strictness.setter
+    def default_strictness(self, value: str) -> None:
+        self._switcher.default_strictness = value
+
+    @property
     def handle_exceptions(self) -> bool:
         """ros2_control's ``handle_exceptions``: catch what a controller's ``update`` raises (the loop's flag)."""
         return self._loop.handle_exceptions
@@ -160,30 +148,24 @@ class ControllerManager:
     def handle_exceptions(self, value: bool) -> None:
         self._loop.handle_exceptions = bool(value)
 
-    def _spec(self, name: str) -> ControllerSpec:
-        try:
-            return self._controllers[name]
-        except KeyError:
-            raise ControllerNotFound(name, self._controllers) from None
-
     def get_controller(self, name: str) -> ControllerInterface:
         """The controller instance called ``name``.
 
         Raises:
             ControllerNotFound: If no such controller is loaded.
         """
-        return self._spec(name).controller
+        return self._lifecycle.spec(name).controller
 
     def command_interface_names(self, spec: ControllerSpec) -> list[str]:
         """Command interfaces a configured controller asks for (resolved against the storage)."""
-        return required_interfaces(self.resource_manager, spec, "command")
+        return self._claims.command_interface_names(spec)
 
     def state_interface_names(self, spec: ControllerSpec) -> list[str]:
         """State interfaces a configured controller asks for (resolved against the storage)."""
-        return required_interfaces(self.resource_manager, spec, "state")
+        return self._claims.state_interface_names(spec)
 
-    # ================================================================= lifecycle (steps in controller_lifecycle)
-    @_reports_activity
+    # ================================================================= lifecycle (ControllerLifecycle)
+    @reports_activity
     def load_controller(self, name: str, type: str | None = None) -> ControllerInterface:  # noqa: A002
         """Create controller ``name`` of plugin ``type`` (from the controllers YAML if None) and run ``on_init``.
 
@@ -192,13 +174,9 @@ class ControllerManager:
             ControllerNotFound: If no type is given and the YAML declares none for ``name``.
             ParameterError: If the parameters do not match the controller's declarations.
         """
-        spec = controller_lifecycle.create(self, name, type)
-        self._controllers[name] = spec
-        self._chains.loaded(name)
-        _log.info("loaded controller '%s' (%s)", name, spec.type)
-        return spec.controller
+        return self._lifecycle.load(name, type).controller
 
-    @_reports_activity
+    @reports_activity
     def configure_controller(self, name: str) -> None:
         """Configure ``name`` (cleaning it up first if inactive); export a chainable controller's
         interfaces into the resource manager and rebuild the update order.
@@ -208,13 +186,9 @@ class ControllerManager:
             ControllerError: If it is active or finalized, ``on_configure`` fails, or its exports are invalid.
             ParameterError: If its parameters fail validation.
         """
-        spec = self._spec(name)
-        if spec.state is State.INACTIVE:
-            self.cleanup_controller(name)
-        controller_lifecycle.configure(self.resource_manager, spec)
-        self._chains.rebuild()
+        self._lifecycle.configure(name)
 
-    @_reports_activity
+    @reports_activity
     def cleanup_controller(self, name: str) -> None:
         """inactive -> unconfigured; its exported interfaces are removed.
 
@@ -222,10 +196,9 @@ class ControllerManager:
             ControllerNotFound: If it is not loaded.
             ControllerError: If it is not inactive.
         """
-        controller_lifecycle.cleanup(self.resource_manager, self._spec(name))
-        self._chains.rebuild()
+        self._lifecycle.cleanup(name)
 
-    @_reports_activity
+    @reports_activity
     def unload_controller(self, name: str) -> None:
         """Clean up (if inactive), shut down and forget controller ``name``.
 
@@ -233,16 +206,9 @@ class ControllerManager:
             ControllerNotFound: If it is not loaded.
             ControllerError: If it is active.
         """
-        spec = self._spec(name)
-        if spec.state is State.ACTIVE:
-            raise ControllerError(f"controller '{name}' is active and cannot be unloaded; deactivate it first")
-        if spec.state is State.INACTIVE:
-            self.cleanup_controller(name)
-        controller_lifecycle.shutdown(spec)
-        del self._controllers[name]
-        self._chains.unloaded(name)
+        self._lifecycle.unload(name)
 
-    @_reports_activity
+    @reports_activity
     def set_controller_state(self, name: str, state: str | State) -> None:
         """Bring a controller to ``"unconfigured"``, ``"inactive"`` or ``"active"`` (``ros2 control set_controller_state``).
 
@@ -252,10 +218,10 @@ class ControllerManager:
                 its state (or fails).
             SwitchError: If activation or deactivation is rejected.
         """
-        controller_lifecycle.set_state(self, self._spec(name), state)
+        self._lifecycle.set_state(name, state)
 
     # ================================================================= switching
-    @_reports_activity
+    @reports_activity
     def switch_controllers(
         self,
         activate: Iterable[str] = (),
@@ -287,7 +253,7 @@ class ControllerManager:
         """
         if isinstance(activate, str) or isinstance(deactivate, str):
             raise ControllerError("activate and deactivate take lists of controller names, not a single string")
-        return _switch(self, activate, deactivate, self.default_strictness if strictness in (None, 0) else strictness)
+        return self._switcher.switch(activate, deactivate, strictness)
 
     def explain_switch(
         self, activate: Iterable[str] = (), deactivate: Iterable[str] = (), strictness: str | int | None = None
@@ -295,24 +261,18 @@ class ControllerManager:
         """Say, without changing anything, whether this switch would go through under strict and best effort, and
         every reason it would not, with the facts behind them (see :mod:`~rrbot_workshop.controller_manager.explain`).
         """
-        return _explain(self, activate, deactivate, strictness)
+        return _explain(self._switcher, self._controllers, self.resource_manager, activate, deactivate, strictness)
 
     # ================================================================= the loop
     def add_cycle_hook(self, fn: CycleHook) -> Callable[[], None]:
         """Call ``fn(time, period)`` after every cycle (recorders, viewers). Returns a remover."""
-        self._hooks.append(fn)
-
-        def remove() -> None:
-            if fn in self._hooks:
-                self._hooks.remove(fn)
-
-        return remove
+        return self._hooks.add(fn)
 
     def read(self, time: float, period: float) -> None:
         """Read all hardware; controllers using failed hardware are deactivated."""
         status = self.resource_manager.read_cycle(time, period)
         if status is not None:
-            controller_loop.hardware_failed(self, status.failed_hardware_names, "read")
+            self._failures.hardware_failed(status.failed_hardware_names, "read")
             self.activity.check()
 
     def write(self, time: float, period: float) -> None:
@@ -322,14 +282,8 @@ class ControllerManager:
             self.resource_manager.enforce_command_limits(period)
         status = self.resource_manager.write_cycle(time, period)
         if status is not None:
-            rm = self.resource_manager
-            # a component left INACTIVE deactivated itself (DEACTIVATE); one that failed went through error()
-            quiet = [h for h in status.failed_hardware_names if rm.get_component(h).get_lifecycle_state() is State.INACTIVE]
-            failed = [h for h in status.failed_hardware_names if h not in quiet]
-            if failed:
-                controller_loop.hardware_failed(self, failed, "write")
-            if quiet and self.deactivate_controllers_on_hardware_self_deactivate:
-                controller_loop.hardware_failed(self, quiet, "write", commanders_only=True)
+            self._failures.write_failed(status.failed_hardware_names,
+                                        self.deactivate_controllers_on_hardware_self_deactivate)
             self.activity.check()
 
     def update_controllers(self, time: float, period: float) -> None:
@@ -355,12 +309,7 @@ class ControllerManager:
         self.read(time, period)
         self._loop.update(time, period)
         self.write(time, period)
-        if self._hooks:
-            for hook in list(self._hooks):
-                try:
-                    hook(time, period)
-                except Exception:  # noqa: BLE001 - a plotting hook must not stop the robot
-                    _log.error("cycle hook %r raised:\n%s", hook, traceback.format_exc())
+        self._hooks.run(time, period)
 
     def chain_group(self, names: Iterable[str]) -> list[str]:
         """``names`` and every active controller chained to them (either direction), in update order."""
@@ -369,7 +318,7 @@ class ControllerManager:
     # ================================================================= introspection
     def list_controllers(self) -> list[ControllerState]:
         """``ControllerState`` of each controller, in update order."""
-        return introspection.list_controllers(self)
+        return introspection.list_controllers(self._controllers, self._chains.order, self._claims, self.resource_manager)
 
     def controller_statistics(self) -> dict[str, ControllerStatistics]:
         """Each loaded controller's update periods [s] and execution times [µs] since its last activation."""
@@ -377,11 +326,11 @@ class ControllerManager:
 
     def list_hardware_components(self) -> list[HardwareComponentState]:
         """``HardwareComponentState`` of each hardware component."""
-        return introspection.list_hardware_components(self)
+        return introspection.list_hardware_components(self.resource_manager)
 
     def list_hardware_interfaces(self) -> HardwareInterfaces:
         """All command and state interfaces with availability and claims."""
-        return introspection.list_hardware_interfaces(self)
+        return introspection.list_hardware_interfaces(self.resource_manager)
 
     def list_controller_types(self) -> list[tuple[str, str]]:
         """``(type, base_class)`` of every controller plugin."""
@@ -389,9 +338,10 @@ class ControllerManager:
 
     def view_controller_chains(self) -> str:
         """Graphviz DOT text of the controller chains."""
-        return introspection.view_controller_chains(self)
+        records = introspection.list_controllers(self._controllers, self._chains.order, self._claims, self.resource_manager)
+        return introspection.view_controller_chains(records, self.resource_manager)
 
-    @_reports_activity
+    @reports_activity
     def set_hardware_component_state(self, name: str, state: str | State) -> bool:
         """Drive hardware component ``name`` to ``state`` (``"unconfigured"``, ``"inactive"``, ``"active"``, ``"finalized"``).
 
@@ -413,7 +363,7 @@ class ControllerManager:
     def shutdown(self) -> None:
         """Deactivate every active controller (in update order) and unload them all."""
         for name in [n for n in self._chains.order if self._controllers[n].state is State.ACTIVE]:
-            deactivate_controller(self.resource_manager, self._controllers[name])
+            self._claims.deactivate(self._controllers[name])
         for name in reversed(list(self._chains.order)):
             try:
                 self.unload_controller(name)

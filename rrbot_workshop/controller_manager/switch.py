@@ -20,27 +20,35 @@ The steps follow ``controller_manager.cpp`` (Jazzy):
 Every rejection before step 10 leaves all states as they were. The caller gets a :class:`SwitchError`
 listing every reason, naming controllers and interfaces.
 
-This module holds the request and its planning (steps 1-8); the chaining checks of steps 3-4 are in
-:mod:`~rrbot_workshop.controller_manager.switch_chaining`, running and rolling back (steps 9-11) in
-:mod:`~rrbot_workshop.controller_manager.switch_execution`.
+This module holds the :class:`Switcher`, which the manager hands its controllers, chain graph, claims and resource
+manager, and the :class:`SwitchRequest` it plans (steps 1-8); the chaining checks of steps 3-4 are the
+:class:`~rrbot_workshop.controller_manager.switch_chaining.ChainingRules` the switcher builds and hands each request;
+running and rolling back (steps 9-11) are in :mod:`~rrbot_workshop.controller_manager.switch_execution`, which takes
+the planned request.
 """
 
 from __future__ import annotations
 
 import logging
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable, Mapping
 from typing import Any
 
-from rrbot_workshop.controller_manager.context import ManagerContext
-from rrbot_workshop.controller_manager.spec import SwitchResult
-from rrbot_workshop.controller_manager.switch_chaining import check_activation, check_deactivation, followers
+from rrbot_workshop.controller_manager.chains import ChainGraph
+from rrbot_workshop.controller_manager.claims import InterfaceClaims
+from rrbot_workshop.controller_manager.spec import ControllerSpec, SwitchResult
+from rrbot_workshop.controller_manager.switch_chaining import ChainingRules
 from rrbot_workshop.controller_manager.switch_execution import execute
 from rrbot_workshop.exceptions import ControllerError, SwitchError
+from rrbot_workshop.hardware_interface.resource_manager import ResourceManager
 from rrbot_workshop.middleware.lifecycle import State
 
-__all__ = ["STRICTNESS", "SwitchRequest", "normalize_strictness", "switch_controllers"]
+__all__ = ["STRICTNESS", "SwitchCall", "SwitchRequest", "Switcher", "normalize_strictness"]
 
 _log = logging.getLogger(__name__)
+
+#: A switch asked as the manager's ``switch_controllers`` takes it (``activate=``, ``deactivate=``, ``strictness=``): how
+#: the collaborators that must switch (``set_state``, the fallbacks of a failed controller) go back through the manager.
+SwitchCall = Callable[..., SwitchResult]
 
 #: Accepted strictness values (``controller_manager_msgs/SwitchController``: 1 BEST_EFFORT, 2 STRICT,
 #: 3 AUTO and 4 FORCE_AUTO act as BEST_EFFORT in Jazzy).
@@ -74,11 +82,26 @@ def _dedupe(names: Iterable[str]) -> list[str]:
 
 
 class SwitchRequest:
-    """One switch request: what is asked, what planning dropped, and which followers change chained mode."""
+    """One switch request: what is asked, what planning dropped, and which followers change chained mode.
 
-    def __init__(self, cm: ManagerContext, activate: list[str], deactivate: list[str], strictness: str) -> None:
-        self.cm = cm
-        self.rm = cm.resource_manager
+    It is planned against what it is handed (the :class:`Switcher` builds it), and carries them on to the execution.
+
+    Args:
+        controllers: The loaded controllers by name.
+        rules: The chaining checks over them.
+        claims: Which interfaces each controller requires; claiming them.
+        rm: The resource manager (interfaces, holders, the hardware's mode switch).
+        activate: Controllers to activate.
+        deactivate: Controllers to deactivate.
+        strictness: ``"strict"`` or ``"best_effort"``.
+    """
+
+    def __init__(self, controllers: Mapping[str, ControllerSpec], rules: ChainingRules, claims: InterfaceClaims,
+                 rm: ResourceManager, activate: list[str], deactivate: list[str], strictness: str) -> None:
+        self.controllers = controllers
+        self.rules = rules
+        self.claims = claims
+        self.rm = rm
         self.strict = strictness == "strict"
         self.activate = _dedupe(activate)
         self.deactivate = _dedupe(deactivate)
@@ -90,7 +113,7 @@ class SwitchRequest:
 
     def state(self, name: str) -> State:
         """Lifecycle state of loaded controller ``name``."""
-        return self.cm.controllers[name].state
+        return self.controllers[name].state
 
     # ----------------------------------------------------------------- planning
     def plan(self, ask_hardware: bool = True) -> bool:
@@ -101,7 +124,7 @@ class SwitchRequest:
                 resource manager's rules only, since a driver may keep what it prepared for the ``perform`` that
                 follows.
         """
-        loaded = self.cm.controllers
+        loaded = self.controllers
         if not self.activate and not self.deactivate:
             _log.info("switch_controllers: empty activate and deactivate lists, nothing to do")
             return False
@@ -128,18 +151,18 @@ class SwitchRequest:
             self.to_chained, self.from_chained = set(), set()
             for d in self.deactivate:  # step 2
                 if self.state(d) is State.ACTIVE:
-                    for follower, _itf, kind in followers(self.cm, d):
+                    for follower, _itf, kind in self.rules.followers(d):
                         if kind == "reference" and loaded[follower].controller.is_in_chained_mode():
                             self.from_chained.add(follower)
             problems: dict[str, list[str]] = {}
             for a in self.activate:
-                reasons, chained = check_activation(self.cm, a, self.activate, self.deactivate)
+                reasons, chained = self.rules.check_activation(a, self.activate, self.deactivate)
                 if reasons:
                     problems[a] = reasons
                 else:
                     self.to_chained |= chained
             for d in self.deactivate:
-                reasons = check_deactivation(self.cm, d, self.activate, self.deactivate)
+                reasons = self.rules.check_deactivation(d, self.activate, self.deactivate)
                 if reasons:
                     problems.setdefault(d, []).extend(reasons)
             if not problems:
@@ -191,8 +214,8 @@ class SwitchRequest:
         interfaces: list[str] = []  # interfaces the reasons are about
         requested: dict[str, str] = {}
         for a in self.activate:
-            spec = self.cm.controllers[a]
-            for itf in self.cm.command_interface_names(spec):
+            spec = self.controllers[a]
+            for itf in self.claims.command_interface_names(spec):
                 if not self.rm.command_interface_exists(itf):
                     reasons.append(
                         f"controller '{a}' needs command interface '{itf}', which does not exist "
@@ -221,7 +244,7 @@ class SwitchRequest:
                     involved += [requested[itf], a]
                     interfaces.append(itf)
                 requested.setdefault(itf, a)
-            for itf in self.cm.state_interface_names(spec):
+            for itf in self.claims.state_interface_names(spec):
                 if not self.rm.state_interface_exists(itf):
                     reasons.append(
                         f"controller '{a}' needs state interface '{itf}', which does not exist "
@@ -250,32 +273,62 @@ class SwitchRequest:
         start = [
             itf
             for a in self.activate
-            for itf in self.cm.command_interface_names(self.cm.controllers[a])
+            for itf in self.claims.command_interface_names(self.controllers[a])
             if self.rm.hardware_of_interface(itf) is not None
         ]
         stop = [
             loan.name
             for d in self.deactivate
-            for loan in self.cm.controllers[d].controller.command_interfaces
+            for loan in self.controllers[d].controller.command_interfaces
             if self.rm.hardware_of_interface(loan.name) is not None
         ]
         return start, stop
 
 
-def switch_controllers(
-    cm: ManagerContext, activate: Iterable[str], deactivate: Iterable[str], strictness: str | int
-) -> SwitchResult:
-    """Plan and run one switch on ``cm`` (see the module docstring).
+class Switcher:
+    """The manager's switch logic: plans requests against the live controllers and runs them.
 
-    Raises:
-        SwitchError: If the switch is rejected (nothing changed) or a requested activation or
-            deactivation did not happen; ``reasons`` lists every problem.
-        ControllerError: If ``strictness`` is unknown.
+    It owns the chaining rules and the manager's default strictness; the states it changes are the controllers' and the
+    resource manager's.
+
+    Args:
+        controllers: The manager's loaded controllers by name (the live mapping).
+        chains: The manager's chain graph (the update order).
+        claims: Which interfaces each controller requires; claiming and releasing them.
+        rm: The resource manager.
+        default_strictness: What a switch asked with strictness None or 0 gets
+            (``defaults.switch_controller.strictness``).
     """
-    switch = SwitchRequest(cm, list(activate), list(deactivate), normalize_strictness(strictness))
-    planned = switch.plan()
-    for line in switch.skipped:
-        _log.warning("switch_controllers (best effort) skipped: %s", line)
-    if not planned:
-        return SwitchResult(skipped=switch.skipped)
-    return execute(switch)
+
+    def __init__(self, controllers: Mapping[str, ControllerSpec], chains: ChainGraph, claims: InterfaceClaims,
+                 rm: ResourceManager, default_strictness: str = "best_effort") -> None:
+        self._controllers = controllers
+        self._claims = claims
+        self._rm = rm
+        #: The chaining checks of steps 3-4, and the order of execution.
+        self.rules = ChainingRules(controllers, chains, claims, rm)
+        self.default_strictness = default_strictness
+
+    def request(self, activate: Iterable[str], deactivate: Iterable[str], strictness: str) -> SwitchRequest:
+        """A request to plan (``strictness`` is ``"strict"`` or ``"best_effort"``)."""
+        return SwitchRequest(self._controllers, self.rules, self._claims, self._rm, list(activate), list(deactivate),
+                             strictness)
+
+    def switch(self, activate: Iterable[str], deactivate: Iterable[str], strictness: str | int | None) -> SwitchResult:
+        """Plan and run one switch (see the module docstring); None or 0 take the default strictness.
+
+        Raises:
+            SwitchError: If the switch is rejected (nothing changed) or a requested activation or
+                deactivation did not happen; ``reasons`` lists every problem.
+            ControllerError: If ``strictness`` is unknown.
+        """
+        if strictness is None or strictness == 0:
+            strictness = self.default_strictness
+        asked = list(activate), list(deactivate)  # read before the strictness is checked, as the manager always did
+        switch = self.request(*asked, normalize_strictness(strictness))
+        planned = switch.plan()
+        for line in switch.skipped:
+            _log.warning("switch_controllers (best effort) skipped: %s", line)
+        if not planned:
+            return SwitchResult(skipped=switch.skipped)
+        return execute(switch)

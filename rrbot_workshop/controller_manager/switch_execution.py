@@ -10,12 +10,12 @@ did is undone.
 from __future__ import annotations
 
 import logging
+from collections.abc import Mapping
 from typing import Protocol
 
-from rrbot_workshop.controller_manager.claims import activate_controller, deactivate_controller
-from rrbot_workshop.controller_manager.context import ManagerContext
-from rrbot_workshop.controller_manager.spec import SwitchResult
-from rrbot_workshop.controller_manager.switch_chaining import dependency_order
+from rrbot_workshop.controller_manager.claims import InterfaceClaims
+from rrbot_workshop.controller_manager.spec import ControllerSpec, SwitchResult
+from rrbot_workshop.controller_manager.switch_chaining import ChainingRules
 from rrbot_workshop.exceptions import SwitchError
 from rrbot_workshop.hardware_interface.resource_manager import ResourceManager
 from rrbot_workshop.middleware.lifecycle import State
@@ -24,7 +24,9 @@ from rrbot_workshop.middleware.lifecycle import State
 class SwitchRequest(Protocol):
     """A planned switch, as :class:`rrbot_workshop.controller_manager.switch.SwitchRequest` hands it over."""
 
-    cm: ManagerContext
+    controllers: Mapping[str, ControllerSpec]
+    rules: ChainingRules
+    claims: InterfaceClaims
     rm: ResourceManager
     strict: bool
     activate: list[str]
@@ -49,8 +51,7 @@ def execute(request: SwitchRequest) -> SwitchResult:
             rollback), or a controller is still active after its deactivation; ``partial`` tells
             whether something changed.
     """
-    cm, rm = request.cm, request.rm
-    controllers = cm.controllers
+    controllers, rules, claims, rm = request.controllers, request.rules, request.claims, request.rm
     start, stop = request.hardware_lists()
     if not rm.perform_command_mode_switch(start, stop):
         raise SwitchError([f"the hardware failed to perform the command mode switch: {rm.last_switch_error}"])
@@ -60,8 +61,8 @@ def execute(request: SwitchRequest) -> SwitchResult:
         for n in {*request.deactivate, *request.must_chain, *request.from_chained}
         if controllers[n].controller.is_chainable()
     }
-    for name in reversed(dependency_order(cm, request.deactivate)):  # users before the controllers they use
-        deactivate_controller(rm, controllers[name])
+    for name in reversed(rules.dependency_order(request.deactivate)):  # users before the controllers they use
+        claims.deactivate(controllers[name])
         result.deactivated.append(name)
     for name in sorted(request.must_chain):  # including followers restarted here (deactivation unchains them)
         ctrl = controllers[name].controller
@@ -74,8 +75,8 @@ def execute(request: SwitchRequest) -> SwitchResult:
     failures: list[str] = []
     failed: list[str] = []
     changed_on_failure: list[str] = []  # a failed activation runs on_error: the controller leaves 'inactive'
-    for name in dependency_order(cm, request.activate):  # exporters before the controllers that use them
-        reason = activate_controller(rm, controllers[name])
+    for name in rules.dependency_order(request.activate):  # exporters before the controllers that use them
+        reason = claims.activate(controllers[name])
         if reason:
             failures.append(reason)
             failed.append(name)
@@ -109,17 +110,16 @@ def rollback(request: SwitchRequest, result: SwitchResult, was_chained: dict[str
         result: What it did so far.
         was_chained: Chained mode, before the switch, of the chainable controllers it touched.
     """
-    cm, rm = request.cm, request.rm
-    controllers = cm.controllers
-    for name in reversed(dependency_order(cm, result.activated)):
-        deactivate_controller(rm, controllers[name])
+    controllers, rules, claims, rm = request.controllers, request.rules, request.claims, request.rm
+    for name in reversed(rules.dependency_order(result.activated)):
+        claims.deactivate(controllers[name])
     for name, chained in was_chained.items():
         ctrl = controllers[name].controller
         if ctrl.get_lifecycle_state() is not State.ACTIVE and ctrl.is_in_chained_mode() != chained:
             ctrl.set_chained_mode(chained)  # type: ignore[attr-defined]
-    for name in dependency_order(cm, result.deactivated):
+    for name in rules.dependency_order(result.deactivated):
         if controllers[name].state is State.INACTIVE:
-            reason = activate_controller(rm, controllers[name])
+            reason = claims.activate(controllers[name])
             if reason:
                 _log.error("rollback could not re-activate '%s': %s", name, reason)
     start, stop = request.hardware_lists()
