@@ -100,6 +100,7 @@ class ControllerManager:
         self._chains = ChainGraph(rm, self._claims, self._controllers)
         self._switcher = Switcher(self._controllers, self._chains, self._claims, rm, own.default_strictness)
         self._hooks = CycleHooks()
+        self._hardware = rm.cycle  # read and write of the cycle, called without going through the resource manager
         register_services(self.bus, **{name: self._late(name) for name in SERVICE_CALLS},
                           hardware_state=lambda name: rm.get_component(name).get_lifecycle_state())
         #: Publishes ``/controller_manager/activity`` when a controller or hardware component changes state.
@@ -270,7 +271,7 @@ class ControllerManager:
 
     def read(self, time: float, period: float) -> None:
         """Read all hardware; controllers using failed hardware are deactivated."""
-        status = self.resource_manager.read_cycle(time, period)
+        status = self._hardware.read(time, period)
         if status is not None:
             self._failures.hardware_failed(status.failed_hardware_names, "read")
             self.activity.check()
@@ -280,7 +281,7 @@ class ControllerManager:
         hardware are deactivated."""
         if self.enforce_command_limits:
             self.resource_manager.enforce_command_limits(period)
-        status = self.resource_manager.write_cycle(time, period)
+        status = self._hardware.write(time, period)
         if status is not None:
             self._failures.write_failed(status.failed_hardware_names,
                                         self.deactivate_controllers_on_hardware_self_deactivate)

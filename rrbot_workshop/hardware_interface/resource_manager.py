@@ -253,6 +253,12 @@ class ResourceManager(ResourceInterfaces):
         """
         return self._cycle.read(time, period) or HardwareReadWriteStatus()
 
+    @property
+    def cycle(self) -> HardwareCycle:
+        """The compiled read/write plan (:class:`~.resource_cycle.HardwareCycle`); the controller manager's cycle calls
+        its ``read`` and ``write`` (what :meth:`read_cycle` and :meth:`write_cycle` call)."""
+        return self._cycle
+
     def read_cycle(self, time: float, period: float) -> HardwareReadWriteStatus | None:
         """:meth:`read` for the controller manager's cycle: None when every component returned OK."""
         return self._cycle.read(time, period)
