@@ -59,7 +59,8 @@ class ControllerLoop:
         self._on_failed = on_failed
         self.handle_exceptions = handle_exceptions
         self._plan: list[tuple[str, ControllerSpec, ControllerInterface, int, ControllerStatistics]] = []
-        self._built_for: tuple[int, int] = (-1, -1)
+        self._built_at = -1  # TRANSITIONS.value when the plan was built
+        self._built_version = -1  # the chain graph's version then
 
     def _build(self) -> None:
         cm_rate = self.update_rate
@@ -71,7 +72,7 @@ class ControllerLoop:
                 rate = ctrl._update_rate or cm_rate  # noqa: SLF001
                 plan.append((name, spec, ctrl, rate if rate < cm_rate else 0, spec.statistics))
         self._plan = plan
-        self._built_for = (TRANSITIONS.value, self._chains.version)
+        self._built_at, self._built_version = TRANSITIONS.value, self._chains.version
 
     def update(self, time: float, period: float) -> None:
         """Update each active controller that is due, in chain order, then hand over the failures.
@@ -80,11 +81,11 @@ class ControllerLoop:
             time: Current time in [s].
             period: Manager period in [s].
         """
-        if self._built_for != (TRANSITIONS.value, self._chains.version):
+        if self._built_at != TRANSITIONS.value or self._built_version != self._chains.version:
             self._build()
         failed: list[str] | None = None
         active, ok = State.ACTIVE, ReturnType.OK
-        clock = perf_counter
+        clock, fold_every = perf_counter, FOLD_EVERY
         for name, spec, ctrl, slow, stats in self._plan:
             if ctrl._state is not active:  # noqa: SLF001 - changed during this cycle
                 continue
@@ -108,7 +109,7 @@ class ControllerLoop:
                 result = ReturnType.ERROR
             pending = stats.pending  # ControllerStatistics.record, inline: one append per update
             pending.append(((clock() - started) * 1e6, ctrl_period))
-            if len(pending) >= FOLD_EVERY:
+            if len(pending) >= fold_every:
                 stats.fold()
             if result is not ok:
                 if result is not ReturnType.ERROR:
