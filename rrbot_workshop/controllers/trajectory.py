@@ -19,6 +19,7 @@ import copy
 import enum
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
 
 from rrbot_workshop.controllers.interpolation import (
     LinearSegment,
@@ -88,6 +89,9 @@ class Trajectory:
         self._time_before = 0.0
         self._state_before = JointTrajectoryPoint()
         self._segment: LinearSegment | None = None
+        #: The segment sampled last: (from, until, t0, p0, t1, p1, start index, end index, time_from_start or None).
+        #: A sample within [from, until) is that segment's, found without the search (see :meth:`sample`).
+        self._hit: tuple[Any, ...] | None = None
         if trajectory_msg is not None:
             self.update(trajectory_msg)
         if current_time is not None and current_point is not None:
@@ -99,6 +103,7 @@ class Trajectory:
         self._msg = copy.deepcopy(trajectory_msg)
         self._start_time = float(trajectory_msg.header.stamp)
         self._sampled_already = False
+        self._hit = None
 
     def set_point_before_trajectory_msg(
         self, current_time: float, current_point: JointTrajectoryPoint, joints_angle_wraparound: Sequence[bool] = ()
@@ -110,6 +115,7 @@ class Trajectory:
         shifted by whole turns towards the first waypoint.
         """
         self._time_before = current_time
+        self._hit = None
         state = current_point.copy()
         first = self._msg.points[0] if self._msg is not None and self._msg.points else None
         if first is not None:
@@ -163,6 +169,14 @@ class Trajectory:
             The sample, or None if there is no message, it has no points, or ``sample_time`` is before
             the state the trajectory starts from.
         """
+        hit = self._hit
+        if hit is not None and hit[0] <= sample_time < hit[1] and method is not InterpolationMethod.NONE:
+            # the segment of the last sample, whose fields were deduced then: the same numbers, without the search
+            _, _, t0, p0, t1, p1, start, end, time_from_start = hit
+            out = self._interpolate(t0, p0, t1, p1, sample_time)
+            if time_from_start is not None:
+                out.time_from_start = time_from_start
+            return TrajectorySample(out, start, end)
         msg = self._msg
         if msg is None or not msg.points:
             return None
@@ -182,6 +196,8 @@ class Trajectory:
             else:
                 deduce_from_derivatives(self._state_before, first, dim, first_time - self._time_before)
                 out = self._interpolate(self._time_before, self._state_before, first_time, first, sample_time)
+                self._hit = (self._time_before, first_time, self._time_before, self._state_before, first_time, first,
+                             0, 0, None)
             return TrajectorySample(out, 0, 0)
         for i in range(len(points) - 1):
             t0 = self._start_time + points[i].time_from_start
@@ -192,6 +208,7 @@ class Trajectory:
                 else:
                     deduce_from_derivatives(points[i], points[i + 1], dim, t1 - t0)
                     out = self._interpolate(t0, points[i], t1, points[i + 1], sample_time)
+                    self._hit = (t0, t1, t0, points[i], t1, points[i + 1], i, i + 1, points[i + 1].time_from_start)
                 out.time_from_start = points[i + 1].time_from_start
                 return TrajectorySample(out, i, i + 1)
         # the whole trajectory has played out: hold the last waypoint
