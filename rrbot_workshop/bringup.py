@@ -16,7 +16,6 @@ The :class:`System` then runs on its clock: ``spin(seconds)`` advances simulated
 
 from __future__ import annotations
 
-import gc
 import itertools
 import logging
 import sys
@@ -29,6 +28,7 @@ from typing import Any
 
 from rrbot_workshop.bringup_inputs import controllers_config, description_to_urdf, hardware_initial_states
 from rrbot_workshop.controller_manager.manager import ControllerManager
+from rrbot_workshop.controller_manager.node_loop import run_cycles
 from rrbot_workshop.description.info import HardwareInfo
 from rrbot_workshop.exceptions import ControllerNotFound, HardwareError, ParameterError
 from rrbot_workshop.hardware_interface.resource_manager import ResourceManager
@@ -40,10 +40,6 @@ from rrbot_workshop.middleware.topics import TopicBus
 __all__ = ["bringup", "System", "current_system", "get_system", "systems"]
 
 _log = logging.getLogger(__name__)
-
-#: While :meth:`System.spin_cycles` runs, the youngest generation of the garbage collector is collected every so many
-#: cycles (the collector itself is paused during the cycles).
-GC_EVERY = 20000
 
 _SYSTEMS: dict[str, System] = {}
 _CURRENT: list[str] = []
@@ -129,10 +125,8 @@ class System:
     def spin_cycles(self, n: int) -> float:
         """Run ``n`` control cycles; returns the time after the last one in [s].
 
-        While the cycles run, Python's generational garbage collector is paused and run over the youngest objects
-        every ``GC_EVERY`` cycles instead (a real-time loop does not let a collector stop it at random: here it
-        cost a fifth of the cycle, walking the messages kept in the topics' history). Reference counting still frees
-        everything a cycle makes at once; the collector is back as it was when the call returns.
+        The cycles run as :func:`~rrbot_workshop.controller_manager.node_loop.run_cycles` runs them: with Python's
+        garbage collector paused until the batch ends.
 
         Raises:
             HardwareError: If the system is shut down.
@@ -140,21 +134,7 @@ class System:
         self._check_running()
         if isinstance(self.clock, WallClock):
             self.clock.reset_pacing()
-        cm, tick = self.controller_manager, self.clock.tick
-        period = self.clock.period
-        n = int(n)
-        collecting = gc.isenabled()
-        if collecting:
-            gc.disable()
-        try:
-            for start in range(0, n, GC_EVERY):
-                for _ in range(min(GC_EVERY, n - start)):
-                    cm.update(tick(), period)
-                if collecting and start + GC_EVERY < n:  # between two batches of cycles
-                    gc.collect(0)
-        finally:
-            if collecting:
-                gc.enable()
+        run_cycles(self.controller_manager.update, self.clock.tick, self.clock.period, int(n))
         for listener in list(self._spin_listeners):
             try:
                 listener(self)
