@@ -32,6 +32,7 @@ from collections.abc import Sequence
 from typing import Any
 
 from rrbot_workshop.description.info import ComponentInfo, HardwareInfo, InterfaceInfo
+from rrbot_workshop.hardware.mock_read_plan import build_read_steps, run_read_plan, runs_of_one_kind
 from rrbot_workshop.hardware_interface.component_interface import SystemInterface
 from rrbot_workshop.hardware_interface.handles import ADOPTIONS, CommandInterface, parse_value
 from rrbot_workshop.middleware.lifecycle import CallbackReturn, ReturnType, State
@@ -80,7 +81,7 @@ class GenericSystem(SystemInterface):
         self._joint_modes: list[str] = []
         self._warned_disabled = False
         #: What ``read`` does without ``calculate_dynamics``, prepared once: (kind, source, target, offset, gain).
-        #: The prepared read (see _build_plan), as runs of steps of one kind; None until the first read.
+        #: The prepared read (see mock_read_plan), as runs of steps of one kind; None until the first read.
         self._plan_runs: list[tuple[int, list[tuple[list[Any], int, list[Any], int, float, float]]]] | None = None
         self._plan_adoptions = -1
 
@@ -305,7 +306,7 @@ class GenericSystem(SystemInterface):
             return ReturnType.OK
 
         if not self.calculate_dynamics:
-            return self._run_plan()  # positions follow their commands: prepared once, see _build_plan
+            return self._run_plan()  # positions follow their commands: prepared once, see mock_read_plan
         joints = self.info.joints
         for index in range(len(joints)):
             self._integrate_joint(index, period)
@@ -340,84 +341,15 @@ class GenericSystem(SystemInterface):
         return ReturnType.OK
 
     # ----------------------------------------------------------------- prepared read (no dynamics)
-    _FOLLOW, _MIRROR_FLOAT, _MIRROR_BOOL, _MIMIC = range(4)
-
-    def _build_plan(self) -> list[tuple[int, Any, Any, float, float]]:
-        """The steps of a read without ``calculate_dynamics``, in the order of the general path, with the handles
-        looked up once: the cycle then only moves numbers."""
-        plan: list[tuple[int, Any, Any, float, float]] = []
-        states, commands = self._state_handles, self._command_handles
-        joints = self.info.joints
-        offset = self._position_offset()
-
-        def mirror(name: str) -> None:
-            kind = states[name].data_type
-            if kind in _FLOAT_TYPES:
-                plan.append((self._MIRROR_FLOAT, commands[name], states[name], 0.0, 1.0))
-            elif kind == "bool":
-                plan.append((self._MIRROR_BOOL, commands[name], states[name], 0.0, 1.0))
-
-        for joint in joints:
-            key = f"{joint.name}/{POSITION}"
-            if key in commands and key in states:
-                plan.append((self._FOLLOW, commands[key], states[key], offset, 1.0))
-        custom = self.custom_interface_with_following_offset
-        for joint in joints:
-            for itf in joint.state_interfaces:
-                name = f"{joint.name}/{itf.name}"
-                if itf.name == POSITION or name not in states:
-                    continue
-                if name in commands:
-                    mirror(name)
-                position_cmd = f"{joint.name}/{POSITION}"
-                if custom and itf.name == custom and position_cmd in commands:
-                    plan.append((self._FOLLOW, commands[position_cmd], states[name],
-                                 self.position_state_following_offset, 1.0))
-        for mimic in self.info.mimic_joints:
-            follower, source = joints[mimic.joint_index].name, joints[mimic.mimicked_joint_index].name
-            for mode in _MODES:
-                dst, src = f"{follower}/{mode}", f"{source}/{mode}"
-                if dst in states and src in states:
-                    plan.append((self._MIMIC, states[src], states[dst], mimic.offset if mode == POSITION else 0.0,
-                                 mimic.multiplier))
-        groups = [(self.info.sensors, True)] if self.mock_sensor_commands else []
-        groups.append((self.info.gpios, self.mock_gpio_commands))
-        for components, every_state in groups:
-            for comp in components:
-                for itf in comp.state_interfaces if every_state else comp.command_interfaces:
-                    name = f"{comp.name}/{itf.name}"
-                    if name in commands and name in states:
-                        mirror(name)
-        return plan
-
     def _run_plan(self) -> ReturnType:
         runs = self._plan_runs
         if runs is None or self._plan_adoptions != ADOPTIONS.value:  # built before the handles moved: build again
-            runs = self._plan_runs = _runs_of_one_kind(self._build_plan())
+            runs = self._plan_runs = runs_of_one_kind(build_read_steps(
+                self.info, self._state_handles, self._command_handles, self._position_offset(),
+                self.custom_interface_with_following_offset, self.position_state_following_offset,
+                self.mock_sensor_commands, self.mock_gpio_commands))
             self._plan_adoptions = ADOPTIONS.value
-        # the handles are the component's own: their values are read and written in their flat lists directly, a
-        # run of steps of one kind at a time (the order of the steps is kept: a mimic joint reads what the steps
-        # before it wrote)
-        for kind, steps in runs:
-            if kind == 0:  # follow a command, when it is finite (v - v is 0.0 exactly for finite numbers)
-                for src, i, dst, j, offset, _gain in steps:
-                    value = src[i]
-                    if value - value == 0.0:
-                        dst[j] = value + offset
-            elif kind == 1:  # mirror a float command; an infinite one is an error, NaN leaves the state
-                for src, i, dst, j, _offset, _gain in steps:
-                    value = src[i]
-                    if value == value:
-                        if value - value != 0.0:
-                            return ReturnType.ERROR
-                        dst[j] = value
-            elif kind == 2:
-                for src, i, dst, j, _offset, _gain in steps:
-                    dst[j] = bool(src[i])
-            else:  # a mimic joint
-                for src, i, dst, j, offset, gain in steps:
-                    dst[j] = offset + gain * src[i]
-        return ReturnType.OK
+        return run_read_plan(runs)
 
     def _mirror_components(self, components: Sequence[ComponentInfo], every_state: bool) -> bool:
         """Mirror sensor/GPIO commands to states; False if one is infinite."""
@@ -432,16 +364,3 @@ class GenericSystem(SystemInterface):
     def write(self, time: float, period: float) -> ReturnType:
         """Nothing to send: the mock's ``write`` always succeeds."""
         return ReturnType.OK
-
-
-def _runs_of_one_kind(
-    plan: list[tuple[int, Any, Any, float, float]],
-) -> list[tuple[int, list[tuple[list[Any], int, list[Any], int, float, float]]]]:
-    """The plan's steps grouped into consecutive runs of one kind, in their order, each handle given as its flat
-    list and index."""
-    runs: list[tuple[int, list[tuple[list[Any], int, list[Any], int, float, float]]]] = []
-    for kind, source, target, offset, gain in plan:
-        if not runs or runs[-1][0] != kind:
-            runs.append((kind, []))
-        runs[-1][1].append((source._store, source._index, target._store, target._index, offset, gain))
-    return runs
