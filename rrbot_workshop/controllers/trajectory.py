@@ -92,6 +92,9 @@ class Trajectory:
         #: The segment sampled last: (from, until, t0, p0, t1, p1, start index, end index, time_from_start or None).
         #: A sample within [from, until) is that segment's, found without the search (see :meth:`sample`).
         self._hit: tuple[Any, ...] | None = None
+        #: The last sample: (time, method, sample). The JTC samples one period ahead, so this cycle's desired state is
+        #: the last cycle's command: the same time, the same trajectory, the same numbers (see :meth:`sample`).
+        self._last: tuple[float, InterpolationMethod, TrajectorySample | None] | None = None
         if trajectory_msg is not None:
             self.update(trajectory_msg)
         if current_time is not None and current_point is not None:
@@ -104,6 +107,7 @@ class Trajectory:
         self._start_time = float(trajectory_msg.header.stamp)
         self._sampled_already = False
         self._hit = None
+        self._last = None
 
     def set_point_before_trajectory_msg(
         self, current_time: float, current_point: JointTrajectoryPoint, joints_angle_wraparound: Sequence[bool] = ()
@@ -116,6 +120,7 @@ class Trajectory:
         """
         self._time_before = current_time
         self._hit = None
+        self._last = None
         state = current_point.copy()
         first = self._msg.points[0] if self._msg is not None and self._msg.points else None
         if first is not None:
@@ -163,12 +168,21 @@ class Trajectory:
     def sample(self, sample_time: float, method: InterpolationMethod = InterpolationMethod.SPLINES) -> TrajectorySample | None:
         """The desired state at ``sample_time`` [s].
 
-        The first call fixes the start time when the header stamp is 0.
+        The first call fixes the start time when the header stamp is 0. Asked again for the time of the last
+        sample (and nothing changed since: no new message, no new state before it), it returns that sample.
 
         Returns:
             The sample, or None if there is no message, it has no points, or ``sample_time`` is before
             the state the trajectory starts from.
         """
+        last = self._last
+        if last is not None and last[0] == sample_time and last[1] is method:
+            return last[2]  # sampled at this very time since the trajectory last changed: nothing to compute again
+        result = self._sample(sample_time, method)
+        self._last = (sample_time, method, result)
+        return result
+
+    def _sample(self, sample_time: float, method: InterpolationMethod) -> TrajectorySample | None:
         hit = self._hit
         if hit is not None and hit[0] <= sample_time < hit[1] and method is not InterpolationMethod.NONE:
             # the segment of the last sample, whose fields were deduced then: the same numbers, without the search
