@@ -327,7 +327,10 @@ class JointTrajectoryController(ControllerInterface, FollowJointTrajectoryServer
                                     within_goal_time = False
                 if not violated and within_goal_time:
                     self._write_commands(io, time, period)
-                self._handle_outcome(time, violated, before_last_point, outside_goal, within_goal_time, time_difference)
+                if self._active_goal is not None or violated or not (before_last_point or within_goal_time):
+                    # a goal to report on, or a tolerance to act on (without either, the outcome is "carry on")
+                    self._handle_outcome(time, violated, before_last_point, outside_goal, within_goal_time,
+                                         time_difference)
         self._publish_state(io, time)
         return ReturnType.OK
 
