@@ -3,7 +3,8 @@
 A chain of N revolute joints on ``mock_components/GenericSystem`` (position command; position and velocity states),
 with the joint state broadcaster and either a forward command controller or the joint trajectory controller
 (interpolating a long trajectory through all joints while it is measured). Each cycle is timed in its three stages
-(hardware read, controller updates, hardware write), the way ``ControllerManager.update`` runs them.
+(hardware read, controller updates, hardware write), the way ``ControllerManager.update`` runs them, with the garbage
+collector paused as ``System.spin_cycles`` pauses it (and the heap collected before each measurement).
 
 Run: ``.venv/bin/python benchmarks/bench_scaling.py [--joints 2 6 24 96 192] [--cycles 2000]``. Figures depend on
 the machine; they are printed, never asserted.
@@ -12,6 +13,7 @@ the machine; they are printed, never asserted.
 from __future__ import annotations
 
 import argparse
+import gc
 import logging
 import time
 from collections.abc import Sequence
@@ -68,6 +70,8 @@ def measure(n: int, robot_controller: str, cycles: int) -> dict[str, float]:
         cm, clock = system.controller_manager, system.clock
         period = clock.period
         stages = [0.0, 0.0, 0.0]
+        gc.collect()  # the systems measured before are garbage now: none of them is walked during this measurement
+        gc.disable()  # as System.spin_cycles runs its cycles (controller_manager/node_loop.py)
         for _ in range(cycles):
             now = clock.tick()
             cm.bus.deliver()
@@ -81,6 +85,7 @@ def measure(n: int, robot_controller: str, cycles: int) -> dict[str, float]:
             stages[0] += t1 - t0
             stages[1] += t2 - t1
             stages[2] += t3 - t2
+        gc.enable()
         assert all(c.state == "active" for c in cm.list_controllers() if c.name != ("jtc" if robot_controller ==
                                                                                       "forward" else "forward"))
     finally:
