@@ -19,7 +19,7 @@ from typing import Any
 
 from rrbot_workshop.exceptions import ParameterError
 from rrbot_workshop.middleware.controllers_yaml import ControllersConfig
-from rrbot_workshop.middleware.params import ParameterSchema, ParamListener
+from rrbot_workshop.middleware.params import ParameterSchema, ParamListener, flatten
 
 __all__ = ["CONTROLLER_MANAGER_PARAMETERS", "check_parameters", "manager_findings", "closest"]
 
@@ -81,17 +81,6 @@ def closest(name: str, valid: Iterable[str]) -> str:
     return f" (did you mean '{matches[0]}'?)" if matches else ""
 
 
-def _flatten(values: Mapping[str, Any], prefix: str = "") -> dict[str, Any]:
-    out: dict[str, Any] = {}
-    for key, val in values.items():
-        name = f"{prefix}{key}"
-        if isinstance(val, Mapping) and val:
-            out.update(_flatten(val, name + "."))
-        else:
-            out[name] = val
-    return out
-
-
 def _declared_patterns(schema: ParameterSchema) -> list[str]:
     """Declared names with each mapped segment (``__map_joints``) as a ``*`` wildcard."""
     return [
@@ -107,7 +96,7 @@ def check_parameters(
     name: str, ctype: str, schema: ParameterSchema, values: dict[str, Any], report: Any
 ) -> None:
     """Collect every parameter error of one controller, not only the first one."""
-    given = _flatten(values)
+    given = flatten(values)
     patterns = _declared_patterns(schema)
     for key in given:
         if not any(fnmatch.fnmatchcase(key, p) for p in patterns):
@@ -153,7 +142,7 @@ def _nest(flat: Mapping[str, Any]) -> dict[str, Any]:
 
 def manager_findings(cfg: ControllersConfig, report: Any) -> None:
     """Report the ``controller_manager`` parameters that Jazzy does not know, removed keys and wrong types."""
-    flat = _flatten(cfg.manager_parameters)
+    flat = flatten(cfg.manager_parameters)
     for key, value in flat.items():
         removed = _REMOVED.get(("controller_manager", key))
         if removed:
