@@ -60,6 +60,7 @@ __all__ = ["ControllerManager"]
 
 _log = logging.getLogger(__name__)
 
+
 class ControllerManager:
     """Controllers, their lifecycles and chain order, and the control loop.
 
