@@ -125,13 +125,7 @@ class Publisher:
         if bus._subs.get(topic):  # subscribers read every message: build it now
             bus._publish(topic, build(*args))
             return
-        # the lazy item goes where _publish puts a message: the topic's latest and its history
-        item = _Lazy(build, args)
-        bus._latest[topic] = item
-        hist = bus._history.get(topic)
-        if hist is None:
-            hist = bus._history[topic] = collections.deque(maxlen=bus._history_depth)
-        hist.append(item)
+        bus._keep(topic, _Lazy(build, args))
 
     def get_subscription_count(self) -> int:
         """Number of subscriptions on this topic."""
@@ -234,12 +228,16 @@ class TopicBus:
         return difflib.get_close_matches(topic, [n for n in names if n != topic], n=3, cutoff=0.6)
 
     # ----------------------------------------------------------------- traffic
-    def _publish(self, topic: str, msg: Any) -> None:
-        self._latest[topic] = msg
+    def _keep(self, topic: str, item: Any) -> None:
+        """Make ``item`` (a message, or a lazy one) the topic's latest and append it to its history."""
+        self._latest[topic] = item
         hist = self._history.get(topic)
         if hist is None:
             hist = self._history[topic] = collections.deque(maxlen=self._history_depth)
-        hist.append(msg)
+        hist.append(item)
+
+    def _publish(self, topic: str, msg: Any) -> None:
+        self._keep(topic, msg)
         if self._subs.get(topic):
             self._queue.append((topic, msg))
 
