@@ -27,7 +27,6 @@ from rrbot_workshop.middleware.lifecycle import TRANSITIONS, ReturnType, State
 
 __all__ = ["ControllerLoop"]
 
-FOLD_EVERY = ControllerStatistics.FOLD_EVERY
 
 # The controller manager's messages keep the logger name they had before it was split into modules.
 _log = logging.getLogger("rrbot_workshop.controller_manager.manager")
@@ -85,7 +84,7 @@ class ControllerLoop:
             self._build()
         failed: list[str] | None = None
         active, ok = State.ACTIVE, ReturnType.OK
-        clock, fold_every = perf_counter, FOLD_EVERY
+        clock = perf_counter
         for name, spec, ctrl, slow, stats in self._plan:
             if ctrl._state is not active:  # noqa: SLF001 - changed during this cycle
                 continue
@@ -107,10 +106,7 @@ class ControllerLoop:
                     raise
                 _log.error("update of controller '%s' raised:\n%s", name, traceback.format_exc())
                 result = ReturnType.ERROR
-            pending = stats.pending  # ControllerStatistics.record, inline: one append per update
-            pending.append(((clock() - started) * 1e6, ctrl_period))
-            if len(pending) >= fold_every:
-                stats.fold()
+            stats.record((clock() - started) * 1e6, ctrl_period)
             if result is not ok:
                 if result is not ReturnType.ERROR:
                     _log.error("update of controller '%s' returned %r", name, result)

@@ -29,18 +29,8 @@ class RunningStats:
     maximum: float = -math.inf
     last: float = math.nan
 
-    def add(self, value: float) -> None:
-        """Account for one more value."""
-        self.count += 1
-        self.total += value
-        self.last = value
-        if value < self.minimum:
-            self.minimum = value
-        if value > self.maximum:
-            self.maximum = value
-
     def merge(self, values: Sequence[float]) -> None:
-        """Account for ``values`` at once (as many :meth:`add` calls; the total is summed by ``sum``)."""
+        """Account for ``values`` at once, in their order (the total is summed by ``sum``)."""
         if not values:
             return
         self.count += len(values)
@@ -61,8 +51,8 @@ class RunningStats:
 class ControllerStatistics:
     """The timing of one controller's updates since its last activation.
 
-    The cycle only appends each update's two figures to :attr:`pending` (one tuple: the cheapest record Python
-    has); they are folded into the running figures, in the order they came, when someone reads :attr:`period` or
+    The cycle only appends each update's two figures to :attr:`pending` (:meth:`record`: one tuple, the cheapest record
+    Python has); they are folded into the running figures, in the order they came, when someone reads :attr:`period` or
     :attr:`execution_time`, or when ``FOLD_EVERY`` of them have piled up (memory stays bounded in a long run).
 
     Attributes:
