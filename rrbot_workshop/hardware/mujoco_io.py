@@ -2,8 +2,8 @@
 
 ``read`` and ``write`` run every control cycle, so the component does not look names up there: at
 configure time :func:`plan_state_reads` lists, for every ``MjData`` array read, the state interfaces it fills, each
-with its index and sign (the array is turned into Python floats once per cycle); :func:`plan_gpio_mirrors` pairs each GPIO command with the same-named GPIO
-state; and whenever the command modes change :func:`plan_command_writes` lists which command feeds which
+with its index and sign (the array is turned into Python floats once per cycle); :func:`plan_gpio_mirrors` pairs each
+GPIO command with the same-named GPIO state; and whenever the command modes change :func:`plan_command_writes` lists which command feeds which
 actuator control. The cyclic code is then a flat loop over these lists.
 """
 
