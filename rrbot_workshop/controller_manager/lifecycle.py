@@ -30,6 +30,7 @@ __all__ = ["ControllerLifecycle"]
 # The controller manager's messages keep the logger name they had before it was split into modules.
 _log = logging.getLogger("rrbot_workshop.controller_manager.manager")
 
+
 class ControllerLifecycle:
     """The registry side of the controllers' lifecycles: load, configure, clean up, unload, set a state.
 
