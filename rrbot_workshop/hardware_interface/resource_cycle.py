@@ -118,16 +118,12 @@ class HardwareCycle:
                 entry.last_read = time
             else:
                 entry.last_write = time
-            impl = component._impl  # noqa: SLF001 - the cycle calls the implementation, as the wrapper would
-            if slow or built != TRANSITIONS.value or component._exported is None:  # noqa: SLF001
-                # a slower component (any state), or a state changed during this cycle: the wrapper decides
-                try:  # the wrapper catches what the implementation raises; this catches what the wrapper raises
+            try:  # the wrapper (or settle) catches what the implementation raises; this catches what they raise
+                if slow or built != TRANSITIONS.value or component._exported is None:  # noqa: SLF001
+                    # a slower component (any state), or a state changed during this cycle: the wrapper decides
                     result = component.read(time, own_period) if reading else component.write(time, own_period)
-                except Exception:  # noqa: BLE001 - handle_exceptions
-                    _log.error("%s of hardware '%s' raised:\n%s", which, entry.info.name, traceback.format_exc())
-                    result = ReturnType.ERROR
-            else:  # in the plan, so in a state that reads (or writes): call the implementation as it is now
-                try:
+                else:  # in the plan, so in a state that reads (or writes): call the implementation as it is now
+                    impl = component._impl  # noqa: SLF001 - the cycle calls the implementation, as the wrapper would
                     try:
                         result = impl.read(time, own_period) if reading else impl.write(time, own_period)
                     except Exception as exc:  # noqa: BLE001 - learner code may raise anything (handle_exceptions)
@@ -135,9 +131,9 @@ class HardwareCycle:
                     else:
                         if result is not ok:
                             result = component.settle(which, result)
-                except Exception:  # noqa: BLE001 - what settling raises, as from the wrapper above
-                    _log.error("%s of hardware '%s' raised:\n%s", which, entry.info.name, traceback.format_exc())
-                    result = ReturnType.ERROR
+            except Exception:  # noqa: BLE001 - handle_exceptions
+                _log.error("%s of hardware '%s' raised:\n%s", which, entry.info.name, traceback.format_exc())
+                result = ReturnType.ERROR
             if result is not ok:
                 status = self._failed(which, entry, result, status)
         return status
