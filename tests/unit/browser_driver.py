@@ -11,13 +11,27 @@ from __future__ import annotations
 import base64
 import itertools
 import json
+import os
+import shutil
 import subprocess
 import time
 import urllib.request
 from pathlib import Path
-from typing import Any
+from typing import Any, NoReturn
 
+import pytest
 import websocket
+
+#: Debian's headless browser, or None where it is not installed.
+CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
+
+
+def unavailable(reason: str) -> NoReturn:
+    """Skip a browser test for ``reason``; in CI (``RRBOT_WORKSHOP_REQUIRE_BROWSER=1``, set by ``.ci/run``) the browser
+    tests may not skip, so the same reason fails it."""
+    if os.environ.get("RRBOT_WORKSHOP_REQUIRE_BROWSER") == "1":
+        pytest.fail(f"{reason} (RRBOT_WORKSHOP_REQUIRE_BROWSER=1: the browser tests may not skip)", pytrace=False)
+    pytest.skip(reason)
 
 
 class Browser:

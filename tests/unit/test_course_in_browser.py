@@ -22,29 +22,18 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
-from browser_driver import LAB_HELPERS, Browser
+from browser_driver import CHROMIUM, LAB_HELPERS, Browser, unavailable
 
 ROOT = Path(__file__).resolve().parents[2]
-CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
-
-#: Set by .ci/run: in CI these tests must run, so what would skip them here fails them instead.
-REQUIRED = os.environ.get("RRBOT_WORKSHOP_REQUIRE_BROWSER") == "1"
-
 pytestmark = [pytest.mark.browser, pytest.mark.slow]
-
-
-def _unavailable(reason: str) -> None:
-    if REQUIRED:
-        pytest.fail(f"{reason} (RRBOT_WORKSHOP_REQUIRE_BROWSER=1: the browser tests may not skip)", pytrace=False)
-    pytest.skip(reason)
 
 
 @pytest.fixture(autouse=True, scope="module")
 def _browser_available() -> None:
     if CHROMIUM is None:
-        _unavailable("headless Chromium not installed (apt-get install -y chromium)")
+        unavailable("headless Chromium not installed (apt-get install -y chromium)")
     if not (ROOT / ".git").exists() or not (ROOT / ".venv").exists():
-        _unavailable("needs the course as a git checkout with its .venv")
+        unavailable("needs the course as a git checkout with its .venv")
 
 
 def _free_port() -> int:
@@ -77,7 +66,7 @@ def lab(tmp_path_factory: pytest.TempPathFactory) -> Iterator[tuple[str, Path]]:
     stamp = ROOT / ".venv" / ".installed"
     committed = hashlib.sha256((clone / "pyproject.toml").read_bytes()).hexdigest()
     if not stamp.exists() or stamp.read_text().strip() != committed:
-        _unavailable(".venv was set up for another pyproject.toml than the committed one; run ./workshop test "
+        unavailable(".venv was set up for another pyproject.toml than the committed one; run ./workshop test "
                      "(it brings .venv up to date first) with pyproject.toml committed")
     (clone / ".venv").symlink_to(ROOT / ".venv")  # the course's environment, already set up
     port = _free_port()

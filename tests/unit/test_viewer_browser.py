@@ -3,21 +3,22 @@
 from __future__ import annotations
 
 import math
-import shutil
 import subprocess
 from pathlib import Path
 
 import numpy as np
 import pytest
+from browser_driver import CHROMIUM, unavailable
 
 from rrbot_workshop.viz.viewer import Viewer
 
-CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
+pytestmark = [pytest.mark.browser]
 
-pytestmark = [
-    pytest.mark.browser,
-    pytest.mark.skipif(CHROMIUM is None, reason="headless Chromium not installed (apt-get install -y chromium)"),
-]
+
+@pytest.fixture(autouse=True, scope="module")
+def _browser_available() -> None:
+    if CHROMIUM is None:
+        unavailable("headless Chromium not installed (apt-get install -y chromium)")
 
 # Bright orange pedestal and arm, blue ball at the tool: colours that the default scene does not contain.
 URDF = """<?xml version="1.0"?>
