@@ -51,8 +51,8 @@ class RunningStats:
 class ControllerStatistics:
     """The timing of one controller's updates since its last activation.
 
-    The cycle only appends each update's two figures to :attr:`pending` (:meth:`record`: one tuple, the cheapest record
-    Python has); they are folded into the running figures, in the order they came, when someone reads :attr:`period` or
+    The cycle only appends each update's two figures to :attr:`pending` (:meth:`record`, written out in the compiled
+    loop: one tuple, the cheapest record Python has); they are folded into the running figures, in the order they came, when someone reads :attr:`period` or
     :attr:`execution_time`, or when ``FOLD_EVERY`` of them have piled up (memory stays bounded in a long run).
 
     Attributes:

@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import math
 import xml.etree.ElementTree as ET
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from typing import Any
 
 from rrbot_workshop.controller_interface.base import (
@@ -30,7 +30,7 @@ from rrbot_workshop.controller_interface.base import (
     InterfaceConfiguration,
     InterfaceConfigurationType,
 )
-from rrbot_workshop.hardware_interface.handles import value_reader
+from rrbot_workshop.hardware_interface.handles import value_snapshot
 from rrbot_workshop.middleware.lifecycle import CallbackReturn, ReturnType, State
 from rrbot_workshop.middleware.topics import Publisher
 from rrbot_workshop.msgs import DynamicJointState, Header, InterfaceValue, JointState
@@ -132,7 +132,7 @@ joint_state_broadcaster:
         self.joint_names: list[str] = []
         # per claimed state interface: (prefix, mapped name) the value goes to, or None if skipped
         self._targets: list[tuple[str, str] | None] = []
-        self._read_values: Callable[[], list[Any]] = list  # every loan's value, in claim order (set at activation)
+        self._read_values: Callable[[], Sequence[Any]] = tuple  # every loan's value, in claim order (set at activation)
         self._js_plan: list[list[int]] = []
         self._dynamic_plan: list[tuple[str, list[str], list[int] | None]] = []
 
@@ -235,7 +235,7 @@ joint_state_broadcaster:
                 extras.append(extra)
                 names.append(extra)
         self.joint_names = names
-        self._read_values = value_reader(self.state_interfaces)
+        self._read_values = value_snapshot(self.state_interfaces)
         # JointState: per field, for each joint, the index of its value (-1: NaN, -2: an extra joint's 0.0)
         self._js_plan = [
             [-2 if j in extras else where.get(j, {}).get(f, -1) for j in names] for f in _JOINT_STATE_FIELDS
@@ -249,7 +249,7 @@ joint_state_broadcaster:
         """Forget the layout; it is rebuilt on the next activation."""
         self.joint_names = []
         self._targets = []
-        self._read_values = list
+        self._read_values = tuple
         self._js_plan = []
         self._dynamic_plan = []
         return CallbackReturn.SUCCESS
@@ -270,14 +270,14 @@ joint_state_broadcaster:
         return ReturnType.OK
 
 
-def _joint_state(time: float, frame: str, names: list[str], plan: list[list[int]], values: list[Any]) -> JointState:
+def _joint_state(time: float, frame: str, names: list[str], plan: list[list[int]], values: Sequence[Any]) -> JointState:
     fields = [[_pick(values, k) for k in indices] for indices in plan]
     return JointState(header=Header(stamp=time, frame_id=frame), name=list(names),
                       position=fields[0], velocity=fields[1], effort=fields[2])
 
 
 def _dynamic_joint_state(
-    time: float, frame: str, plan: list[tuple[str, list[str], list[int] | None]], values: list[Any]
+    time: float, frame: str, plan: list[tuple[str, list[str], list[int] | None]], values: Sequence[Any]
 ) -> DynamicJointState:
     # Jazzy lists the *mapped* names here (and in unordered_map order); we keep the real interface names in claim
     # order, so the topic shows what the hardware exports.
@@ -289,7 +289,7 @@ def _dynamic_joint_state(
     return msg
 
 
-def _pick(values: list[Any], index: int) -> float:
+def _pick(values: Sequence[Any], index: int) -> float:
     if index >= 0:
         return float(values[index])
     return math.nan if index == -1 else 0.0

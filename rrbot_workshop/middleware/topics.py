@@ -70,22 +70,24 @@ class Subscription:
         self._bus._remove_subscription(self._sub)
 
 
-class _Lazy:
-    """A message built on first read: the cycle stores the numbers, whoever reads the topic builds the message."""
+class _Lazy(list):  # type: ignore[type-arg]
+    """A message built on first read: the cycle stores the numbers, whoever reads the topic builds the message.
 
-    __slots__ = ("_build", "_args", "_msg")
+    It is ``[build, *args]`` until read and ``[None, message]`` after. A list of its own rather than an object holding
+    a tuple: one object per kept message instead of two, made without running any Python code. Python's collector
+    walks every object the histories keep (in a 1 kHz simulation, a tenth of the time went there), so each object a
+    cycle leaves behind counts.
+    """
 
-    def __init__(self, build: Callable[..., Any], args: tuple[Any, ...] = ()) -> None:
-        self._build: Callable[..., Any] | None = build
-        self._args = args
-        self._msg: Any = None
+    __slots__ = ()
 
     def get(self) -> Any:
-        if self._build is not None:
-            self._msg = self._build(*self._args)
-            self._build = None
-            self._args = ()
-        return self._msg
+        build = self[0]
+        if build is None:
+            return self[1]
+        msg = build(*self[1:])
+        self[:] = (None, msg)
+        return msg
 
 
 def _resolved(item: Any) -> Any:
@@ -125,7 +127,13 @@ class Publisher:
         if bus._subs.get(topic):  # subscribers read every message: build it now
             bus._publish(topic, build(*args))
             return
-        bus._keep(topic, _Lazy(build, args))
+        item = _Lazy((build, *args))
+        history = bus._history.get(topic)
+        if history is None:
+            bus._keep(topic, item)
+        else:  # TopicBus._keep, inlined for the cycle
+            bus._latest[topic] = item
+            history.append(item)
 
     def get_subscription_count(self) -> int:
         """Number of subscriptions on this topic."""

@@ -222,3 +222,54 @@ def test_the_mock_read_plan_follows_its_handles_when_they_move() -> None:
     command.set_value(-0.25)
     assert component.read(0.01, 0.01) is ReturnType.OK
     assert state.get_value() == -0.25 and store[state._index] == -0.25  # noqa: SLF001
+
+
+def test_the_loop_is_compiled_into_one_block_per_active_controller_and_again_after_a_switch(system: rw.System) -> None:
+    cm = system.controller_manager
+    source = cm._loop.source  # noqa: SLF001 - the compiled loop is the subject here
+    assert source.index(f"# {JSB}") < source.index(f"# {FWD}")  # chain order
+    assert source.count("result = ctrl.update(time, ctrl_period)") == 2
+    cm.switch_controllers(deactivate=[FWD], strictness="strict")
+    system.spin_cycles(1)
+    assert f"# {FWD}" not in cm._loop.source  # noqa: SLF001
+    assert cm._loop.source.count("result = ctrl.update(time, ctrl_period)") == 1  # noqa: SLF001
+
+
+def test_a_slower_controller_gets_the_rate_rule_in_the_compiled_loop(system: rw.System) -> None:
+    cm = system.controller_manager
+    cm.switch_controllers(deactivate=[JSB], strictness="strict")
+    cm.get_controller(JSB)._update_rate = 20  # noqa: SLF001 - as if configured with update_rate: 20 (manager: 100 Hz)
+    cm.switch_controllers(activate=[JSB], strictness="strict")
+    system.spin_cycles(50)
+    assert f"# {JSB} at 20 Hz" in cm._loop.source  # noqa: SLF001
+    stats = cm.controller_statistics()
+    assert stats[JSB].period.count == 10 and stats[FWD].period.count == 52  # FWD: also the fixture's two cycles
+    assert stats[JSB].period.minimum == pytest.approx(0.05)  # the first period is 1/rate, then the time between
+
+
+def test_a_traceback_through_the_compiled_loop_shows_its_line(system: rw.System, caplog: pytest.LogCaptureFixture) -> None:
+    def broken(time: float, period: float) -> ReturnType:
+        raise ZeroDivisionError("learner's bug")
+
+    system.controller_manager.get_controller(FWD).update = broken  # type: ignore[method-assign]
+    with caplog.at_level(logging.ERROR):
+        system.spin_cycles(1)
+    logged = caplog.text
+    assert "File \"<controller loop" in logged and "result = ctrl.update(time, ctrl_period)" in logged
+    assert "ZeroDivisionError: learner's bug" in logged
+    assert [c.state for c in system.controller_manager.list_controllers()] == ["active", "inactive"]
+
+
+def test_a_snapshot_reader_gives_the_values_of_the_moment_as_a_tuple() -> None:
+    from rrbot_workshop.hardware_interface.handles import LoanedStateInterface, StateInterface, adopt, value_snapshot
+
+    a, b = StateInterface("j", "a", initial_value=1.0), StateInterface("j", "b", initial_value=2.0)
+    loans = [LoanedStateInterface(h) for h in (b, a)]
+    own = value_snapshot(loans)
+    assert own() == (2.0, 1.0)
+    adopt([a, b], [])
+    shared = value_snapshot(loans)  # now one itemgetter over the flat list
+    first = shared()
+    a.set_value(5.0)
+    assert first == (2.0, 1.0) and shared() == (2.0, 5.0) and own() == (2.0, 5.0)
+    assert value_snapshot(loans[:1])() == (2.0,) and value_snapshot([])() == ()
