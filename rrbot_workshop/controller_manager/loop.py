@@ -13,14 +13,10 @@ what they stop is :class:`~rrbot_workshop.controller_manager.failures.FailurePat
 
 from __future__ import annotations
 
-import functools
-import linecache
 import logging
 import traceback
-import zlib
 from collections.abc import Callable, Mapping
 from time import perf_counter
-from types import CodeType
 from typing import Any
 
 from rrbot_workshop.controller_interface.base import ControllerInterface
@@ -28,6 +24,7 @@ from rrbot_workshop.controller_manager.chains import ChainGraph
 from rrbot_workshop.controller_manager.spec import ControllerSpec
 from rrbot_workshop.controller_manager.statistics import ControllerStatistics
 from rrbot_workshop.middleware.clock import rate_due
+from rrbot_workshop.middleware.compiled import compile_function
 from rrbot_workshop.middleware.lifecycle import TRANSITIONS, ReturnType, State
 
 __all__ = ["ControllerLoop"]
@@ -142,19 +139,8 @@ class ControllerLoop:
             lines.extend(_BLOCK.format(k=k, due=due, period=own_period).strip("\n").splitlines())
         lines += ["    if failed:", "        on_failed(failed)", ""]
         source = "\n".join(lines)
-        exec(_compiled(source), namespace)  # noqa: S102 - our own template, no outside text
         self.source = source
-        update: Callable[[float, float], None] = namespace["update"]
-        return update
-
-
-@functools.lru_cache(maxsize=256)
-def _compiled(source: str) -> CodeType:
-    """The code of one compiled loop; its source goes to ``linecache`` so that a traceback through it shows its lines.
-    Plans come back (a switch and its reverse), and so does their code."""
-    filename = f"<controller loop {zlib.crc32(source.encode()):08x}>"
-    linecache.cache[filename] = (len(source), None, source.splitlines(keepends=True), filename)
-    return compile(source, filename, "exec")
+        return compile_function(source, "controller loop", "update", namespace)
 
 
 def _raised(name: str) -> ReturnType:

@@ -19,9 +19,48 @@ from typing import Any
 from rrbot_workshop.hardware_interface.resource_loading import ComponentEntry
 from rrbot_workshop.hardware_interface.resource_storage import InterfaceStorage
 from rrbot_workshop.middleware.clock import rate_due
+from rrbot_workshop.middleware.compiled import compile_function
 from rrbot_workshop.middleware.lifecycle import TRANSITIONS, ReturnType, State
 
 __all__ = ["HardwareReadWriteStatus", "HardwareCycle"]
+
+# One component's part of a compiled read or write: the implementation called directly, as the wrapper would, while
+# no state changed during this cycle; the wrapper itself otherwise. The outer handler catches what the wrapper or
+# settle raise (handle_exceptions).
+_BLOCK = """
+    entry = {which}_entry{k}
+    component = {which}_component{k}
+    entry.last_{which} = time
+    try:
+        if TRANSITIONS.value != BUILT_AT or component._exported is None:
+            result = component.{which}(time, period)
+        else:
+            try:
+                result = component._impl.{which}(time, period)
+            except Exception as exc:
+                result = component.settle("{which}", None, exc)
+            else:
+                if result is not OK:
+                    result = component.settle("{which}", result)
+    except Exception:
+        result = raised("{which}", entry)
+    if result is not OK:
+        status = failed("{which}", entry, result, status)
+"""
+
+# A slower component: called through its wrapper when the rate rule says so, with the time since its last call.
+_SLOW_BLOCK = """
+    entry = {which}_entry{k}
+    last = entry.last_{which}
+    if rate_due(last, time, {slow}, cycle.update_rate):
+        entry.last_{which} = time
+        try:
+            result = {which}_component{k}.{which}(time, period if last is None else time - last)
+        except Exception:
+            result = raised("{which}", entry)
+        if result is not OK:
+            status = failed("{which}", entry, result, status)
+"""
 
 # The resource manager's messages keep the logger name they had before it was split into modules.
 _log = logging.getLogger("rrbot_workshop.hardware_interface.resource_manager")
@@ -44,20 +83,28 @@ class HardwareCycle:
     """The hardware side of the control cycle, compiled: who reads and who writes, prepared once.
 
     The plan lists, in cycle order, the components that ``read`` (inactive or active) and those that ``write``
-    (active, not sensors), each with its own rate when it is slower than the manager. It is rebuilt when a lifecycle
+    (active, not sensors), each with its own rate when it is slower than the manager. It is made again when a lifecycle
     state changes anywhere (:data:`~rrbot_workshop.middleware.lifecycle.TRANSITIONS`) or the components change
-    (:meth:`set_entries`); a component with a slower rate stays in it whatever its state, as its time of last call
-    moves on in every state. A cycle then only calls the components. A component in the plan is in a state that
-    reads (writes), so the cycle calls its implementation's ``read``/``write`` itself (looked up on each call: a method
-    replaced at run time is called as it is now); what the implementation raises or any result but OK goes through
-    the wrapper's :meth:`~.HardwareComponent.settle` (logged, mapped to ERROR, ``error()``) and then the slow path (the
-    rules at the top of this module). A slower component, or any component after a state changed during the cycle,
-    is called through its lifecycle wrapper, which checks the state first.
+    (:meth:`set_entries`), and compiled into two Python functions, :attr:`read` and :attr:`write`, with a block per
+    component (:attr:`source` shows them). A component with a slower rate stays in the plan whatever its state, as its
+    time of last call moves on in every state. A component in the plan is in a state that reads (writes), so the cycle
+    calls its implementation's ``read``/``write`` itself (looked up on each call: a method replaced at run time is called
+    as it is now); what the implementation raises or any result but OK goes through the wrapper's
+    :meth:`~.HardwareComponent.settle` (logged, mapped to ERROR, ``error()``) and then the slow path (the rules at the
+    top of this module). A slower component, or any component after a state changed during the cycle, is called
+    through its lifecycle wrapper, which checks the state first.
 
     Args:
         update_rate: The controller manager's rate in [Hz].
         storage: The interface storage whose availability failures change.
         set_component_state: The resource manager's state setter (DEACTIVATE from ``write``).
+
+    Attributes:
+        read: ``read(time, period)``: read every component that is due; None when all returned OK, else a
+            :class:`HardwareReadWriteStatus` of what failed. Time and period in [s].
+        write: ``write(time, period)``: write every component that is due; None when all returned OK, else what failed
+            or deactivated.
+        source: The Python source of :attr:`read` and :attr:`write` (empty before the first cycle).
     """
 
     def __init__(self, update_rate: int, storage: InterfaceStorage,
@@ -66,77 +113,62 @@ class HardwareCycle:
         self._storage = storage
         self._set_component_state = set_component_state
         self._entries: Sequence[ComponentEntry] = ()
-        self._reads: list[tuple[ComponentEntry, Any, int]] = []
-        self._writes: list[tuple[ComponentEntry, Any, int]] = []
-        self._built_at = -1
+        self.source = ""
+        self.read: Callable[[float, float], HardwareReadWriteStatus | None] = self._compile_and_read
+        self.write: Callable[[float, float], HardwareReadWriteStatus | None] = self._compile_and_write
 
     def set_entries(self, entries: Sequence[ComponentEntry]) -> None:
         """The components, in cycle order (after a load or a rejected load)."""
         self._entries = entries
-        self._built_at = -1
+        self.read, self.write = self._compile_and_read, self._compile_and_write
 
-    def _build(self) -> None:
+    def _plan(self) -> tuple[list[tuple[ComponentEntry, int]], list[tuple[ComponentEntry, int]]]:
+        """The components that read and those that write, in cycle order, each with its own rate when it is slower
+        than the manager's (else 0)."""
         readable, active = (State.INACTIVE, State.ACTIVE), State.ACTIVE
-        self._reads, self._writes = [], []
+        reads, writes = [], []
         for entry in self._entries:
             component = entry.component
             state = component.get_lifecycle_state()
             slow = entry.rw_rate if entry.rw_rate < self.update_rate else 0
             # a slower component stays in the plan whatever its state: its last call time moves on as before
             if slow or state in readable:
-                self._reads.append((entry, component, slow))
+                reads.append((entry, slow))
             if slow or (state is active and component.type != "sensor"):
-                self._writes.append((entry, component, slow))
-        self._built_at = TRANSITIONS.value
+                writes.append((entry, slow))
+        return reads, writes
 
-    def read(self, time: float, period: float) -> HardwareReadWriteStatus | None:
-        """Read every component that is due; None when all returned OK, else what failed."""
-        if self._built_at != TRANSITIONS.value:
-            self._build()
-        return self._run(self._reads, True, time, period)
+    def _compile(self) -> None:
+        namespace: dict[str, Any] = {
+            "OK": ReturnType.OK, "TRANSITIONS": TRANSITIONS, "BUILT_AT": TRANSITIONS.value, "cycle": self,
+            "rate_due": rate_due, "raised": _raised, "failed": self._failed,
+            "stale_read": self._compile_and_read, "stale_write": self._compile_and_write,
+        }
+        reads, writes = self._plan()
+        sources = []
+        for which, plan in (("read", reads), ("write", writes)):
+            lines = [f"def {which}(time, period):",
+                     "    if TRANSITIONS.value != BUILT_AT:  # the plan is out of date",
+                     f"        return stale_{which}(time, period)",
+                     "    status = None"]
+            for k, (entry, slow) in enumerate(plan):
+                namespace[f"{which}_entry{k}"], namespace[f"{which}_component{k}"] = entry, entry.component
+                block = _SLOW_BLOCK if slow else _BLOCK
+                lines.append(f"    # {entry.info.name}" + (f" at {slow} Hz" if slow else ""))
+                lines.extend(block.format(which=which, k=k, slow=slow).strip("\n").splitlines())
+            lines += ["    return status", ""]
+            sources.append("\n".join(lines))
+        self.source = "\n".join(sources)
+        self.read = compile_function(sources[0], "hardware read", "read", namespace)
+        self.write = compile_function(sources[1], "hardware write", "write", namespace)
 
-    def write(self, time: float, period: float) -> HardwareReadWriteStatus | None:
-        """Write every component that is due; None when all returned OK, else what failed or deactivated."""
-        if self._built_at != TRANSITIONS.value:
-            self._build()
-        return self._run(self._writes, False, time, period)
+    def _compile_and_read(self, time: float, period: float) -> HardwareReadWriteStatus | None:
+        self._compile()
+        return self.read(time, period)
 
-    def _run(self, plan: list[tuple[ComponentEntry, Any, int]], reading: bool, time: float,
-             period: float) -> HardwareReadWriteStatus | None:
-        status = None
-        ok = ReturnType.OK
-        built = self._built_at
-        which = "read" if reading else "write"
-        for entry, component, slow in plan:
-            own_period = period
-            if slow:
-                last = entry.last_read if reading else entry.last_write
-                if not rate_due(last, time, slow, self.update_rate):
-                    continue
-                own_period = period if last is None else time - last
-            if reading:
-                entry.last_read = time
-            else:
-                entry.last_write = time
-            try:  # the wrapper (or settle) catches what the implementation raises; this catches what they raise
-                if slow or built != TRANSITIONS.value or component._exported is None:  # noqa: SLF001
-                    # a slower component (any state), or a state changed during this cycle: the wrapper decides
-                    result = component.read(time, own_period) if reading else component.write(time, own_period)
-                else:  # in the plan, so in a state that reads (or writes): call the implementation as it is now
-                    impl = component._impl  # noqa: SLF001 - the cycle calls the implementation, as the wrapper would
-                    try:
-                        result = impl.read(time, own_period) if reading else impl.write(time, own_period)
-                    except Exception as exc:  # noqa: BLE001 - learner code may raise anything (handle_exceptions)
-                        result = component.settle(which, None, exc)
-                    else:
-                        if result is not ok:
-                            result = component.settle(which, result)
-            except Exception:  # noqa: BLE001 - handle_exceptions
-                _log.error("%s of hardware '%s' raised:\n%s", which, entry.info.name, traceback.format_exc())
-                result = ReturnType.ERROR
-            if result is not ok:
-                status = self._failed(which, entry, result, status)
-        return status
+    def _compile_and_write(self, time: float, period: float) -> HardwareReadWriteStatus | None:
+        self._compile()
+        return self.write(time, period)
 
     def _failed(self, which: str, entry: ComponentEntry, result: Any,
                 status: HardwareReadWriteStatus | None) -> HardwareReadWriteStatus:
@@ -153,6 +185,12 @@ class HardwareCycle:
             if failed.info.name not in status.failed_hardware_names:
                 status.failed_hardware_names.append(failed.info.name)
         return status
+
+
+def _raised(which: str, entry: ComponentEntry) -> ReturnType:
+    """What the cycle does with an exception the wrapper or ``settle`` let through (called in the handler)."""
+    _log.error("%s of hardware '%s' raised:\n%s", which, entry.info.name, traceback.format_exc())
+    return ReturnType.ERROR
 
 
 def _group_of(entry: ComponentEntry, entries: Sequence[ComponentEntry]) -> list[ComponentEntry]:

@@ -273,3 +273,23 @@ def test_a_snapshot_reader_gives_the_values_of_the_moment_as_a_tuple() -> None:
     a.set_value(5.0)
     assert first == (2.0, 1.0) and shared() == (2.0, 5.0) and own() == (2.0, 5.0)
     assert value_snapshot(loans[:1])() == (2.0,) and value_snapshot([])() == ()
+
+
+def test_the_hardware_cycle_is_compiled_per_component_and_a_traceback_shows_its_line(
+    system: rw.System, caplog: pytest.LogCaptureFixture
+) -> None:
+    rm = system.resource_manager
+    source = rm.cycle.source
+    assert "def read(time, period):" in source and "def write(time, period):" in source
+    assert source.count("# rrbot\n") == 2  # one block in read, one in write
+    impl = rm.get_component("rrbot")._impl  # noqa: SLF001
+
+    def broken(time: float, period: float) -> ReturnType:
+        raise OSError("device gone")
+
+    impl.write = broken
+    with caplog.at_level(logging.ERROR):
+        system.spin_cycles(1)
+    assert "File \"<hardware write" in caplog.text and "result = component._impl.write(time, period)" in caplog.text
+    system.spin_cycles(1)  # the component is out: the plan made again has no block for it
+    assert "# rrbot" not in rm.cycle.source

@@ -1,0 +1,42 @@
+"""Functions compiled from source at run time: how the control cycle becomes straight-line code.
+
+The hardware cycle and the controller loop know, between two state changes, exactly which components and controllers
+a cycle calls. They write that down as the source of one Python function (a block per component or controller, the
+objects it uses bound by name) and compile it here. The function is then what the cycle calls, until the next state
+change makes a new one. Its source is kept in :mod:`linecache` under a name of its own, so a traceback through it (a
+learner's ``update`` that raises) shows the line it stopped at, like any other Python file.
+"""
+
+from __future__ import annotations
+
+import functools
+import linecache
+import zlib
+from collections.abc import Callable
+from types import CodeType
+from typing import Any
+
+__all__ = ["compile_function"]
+
+
+def compile_function(source: str, kind: str, name: str, namespace: dict[str, Any]) -> Callable[..., Any]:
+    """Compile ``source``, which defines the function ``name``, with the globals ``namespace``; return the function.
+
+    Args:
+        source: Python source of one ``def name(...)``, written by this package (never text from outside).
+        kind: What it is, for its file name in tracebacks (``"controller loop"`` -> ``<controller loop 1a2b3c4d>``).
+        name: The function's name in ``source``.
+        namespace: The function's globals: the objects its source names (it is extended, not copied).
+    """
+    exec(_code(source, kind), namespace)  # noqa: S102 - our own template, see Args
+    function: Callable[..., Any] = namespace[name]
+    return function
+
+
+@functools.lru_cache(maxsize=256)
+def _code(source: str, kind: str) -> CodeType:
+    """The code of ``source``, with its lines in ``linecache``. Plans come back (a switch and its reverse), and so
+    does their code."""
+    filename = f"<{kind} {zlib.crc32(source.encode()):08x}>"
+    linecache.cache[filename] = (len(source), None, source.splitlines(keepends=True), filename)
+    return compile(source, filename, "exec")
