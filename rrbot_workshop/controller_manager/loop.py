@@ -48,8 +48,8 @@ _BLOCK = """
             if not loop.handle_exceptions:
                 raise
             result = raised(n{k})
-        p{k}.append(((clock() - started) * 1e6, ctrl_period))
-        if len(p{k}) >= FOLD_EVERY:
+        p{k}.extend(((clock() - started) * 1e6, ctrl_period))
+        if len(p{k}) >= FOLD_AT:
             st{k}.fold()
         if result is not OK:
             failed = not_ok(failed, n{k}, result)
@@ -121,7 +121,7 @@ class ControllerLoop:
             "ACTIVE": State.ACTIVE, "OK": ReturnType.OK, "TRANSITIONS": TRANSITIONS, "BUILT_AT": TRANSITIONS.value,
             "chains": self._chains, "VERSION": self._chains.version, "loop": self, "clock": perf_counter,
             "rate_due": rate_due, "raised": _raised, "not_ok": _not_ok, "on_failed": self._on_failed,
-            "stale": self._compile_and_update, "FOLD_EVERY": ControllerStatistics.FOLD_EVERY,
+            "stale": self._compile_and_update, "FOLD_AT": 2 * ControllerStatistics.FOLD_EVERY,
         }
         lines = ["def update(time, period):",
                  "    if TRANSITIONS.value != BUILT_AT or chains.version != VERSION:  # the plan is out of date",
