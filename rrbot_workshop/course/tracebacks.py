@@ -22,6 +22,7 @@ from types import TracebackType
 from typing import Any
 
 from rrbot_workshop.exceptions import RRBotWorkshopError
+from rrbot_workshop.middleware.compiled import FILENAME_PREFIX
 
 __all__ = ["is_learner_frame", "short_traceback_lines", "short_traceback", "register"]
 
@@ -42,7 +43,7 @@ _PYTHON_DIRS = _python_dirs()
 
 def is_learner_frame(filename: str) -> bool:
     """True for a frame of the learner's code: a notebook cell or a file outside the library and Python."""
-    if not filename or filename.startswith("<frozen"):
+    if not filename or filename.startswith(("<frozen", FILENAME_PREFIX)):  # Python's, or the compiled control cycle
         return False
     if filename.startswith("<"):  # "<string>", "<ipython-input-...>": code typed by someone
         return True

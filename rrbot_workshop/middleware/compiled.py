@@ -16,7 +16,10 @@ from collections.abc import Callable
 from types import CodeType
 from typing import Any
 
-__all__ = ["compile_function"]
+__all__ = ["FILENAME_PREFIX", "compile_function"]
+
+#: How the file name of every compiled function starts (tracebacks tell the library's frames from a learner's by it).
+FILENAME_PREFIX = "<rrbot_workshop "
 
 
 def compile_function(source: str, kind: str, name: str, namespace: dict[str, Any]) -> Callable[..., Any]:
@@ -24,7 +27,8 @@ def compile_function(source: str, kind: str, name: str, namespace: dict[str, Any
 
     Args:
         source: Python source of one ``def name(...)``, written by this package (never text from outside).
-        kind: What it is, for its file name in tracebacks (``"controller loop"`` -> ``<controller loop 1a2b3c4d>``).
+        kind: What it is, for its file name in tracebacks (``"controller loop"`` ->
+            ``<rrbot_workshop controller loop 1a2b3c4d>``).
         name: The function's name in ``source``.
         namespace: The function's globals: the objects its source names (it is extended, not copied).
     """
@@ -37,6 +41,6 @@ def compile_function(source: str, kind: str, name: str, namespace: dict[str, Any
 def _code(source: str, kind: str) -> CodeType:
     """The code of ``source``, with its lines in ``linecache``. Plans come back (a switch and its reverse), and so
     does their code."""
-    filename = f"<{kind} {zlib.crc32(source.encode()):08x}>"
+    filename = f"{FILENAME_PREFIX}{kind} {zlib.crc32(source.encode()):08x}>"
     linecache.cache[filename] = (len(source), None, source.splitlines(keepends=True), filename)
     return compile(source, filename, "exec")

@@ -255,8 +255,12 @@ def test_a_traceback_through_the_compiled_loop_shows_its_line(system: rw.System,
     with caplog.at_level(logging.ERROR):
         system.spin_cycles(1)
     logged = caplog.text
-    assert "File \"<controller loop" in logged and "result = ctrl.update(time, ctrl_period)" in logged
+    assert "File \"<rrbot_workshop controller loop" in logged and "result = ctrl.update(time, ctrl_period)" in logged
     assert "ZeroDivisionError: learner's bug" in logged
+    from rrbot_workshop.course.tracebacks import is_learner_frame
+
+    loop_file = logged.split('File "')[1].split('"')[0]
+    assert loop_file.startswith("<rrbot_workshop controller loop") and not is_learner_frame(loop_file)  # library's
     assert [c.state for c in system.controller_manager.list_controllers()] == ["active", "inactive"]
 
 
@@ -290,6 +294,6 @@ def test_the_hardware_cycle_is_compiled_per_component_and_a_traceback_shows_its_
     impl.write = broken
     with caplog.at_level(logging.ERROR):
         system.spin_cycles(1)
-    assert "File \"<hardware write" in caplog.text and "result = component._impl.write(time, period)" in caplog.text
+    assert "File \"<rrbot_workshop hardware write" in caplog.text and "result = component._impl.write(time, period)" in caplog.text
     system.spin_cycles(1)  # the component is out: the plan made again has no block for it
     assert "# rrbot" not in rm.cycle.source
