@@ -89,8 +89,9 @@ class Trajectory:
         self._time_before = 0.0
         self._state_before = JointTrajectoryPoint()
         self._segment: LinearSegment | None = None
-        #: The segment sampled last: (from, until, t0, p0, t1, p1, start index, end index, time_from_start or None).
-        #: A sample within [from, until) is that segment's, found without the search (see :meth:`sample`).
+        #: The segment sampled last: (from, until, t0, p0, t1, p1, start index, end index, time_from_start or None,
+        #: its LinearSegment or None for a spline). A sample within [from, until) is that segment's, found without the
+        #: search (see :meth:`sample`).
         self._hit: tuple[Any, ...] | None = None
         #: The last sample: (time, method, sample). The JTC samples one period ahead, so this cycle's desired state is
         #: the last cycle's command: the same time, the same trajectory, the same numbers (see :meth:`sample`).
@@ -178,19 +179,29 @@ class Trajectory:
         last = self._last
         if last is not None and last[0] == sample_time and last[1] is method:
             return last[2]  # sampled at this very time since the trajectory last changed: nothing to compute again
-        result = self._sample(sample_time, method)
-        self._last = (sample_time, method, result)
-        return result
-
-    def _sample(self, sample_time: float, method: InterpolationMethod) -> TrajectorySample | None:
         hit = self._hit
         if hit is not None and hit[0] <= sample_time < hit[1] and method is not InterpolationMethod.NONE:
             # the segment of the last sample, whose fields were deduced then: the same numbers, without the search
-            _, _, t0, p0, t1, p1, start, end, time_from_start = hit
-            out = self._interpolate(t0, p0, t1, p1, sample_time)
+            _, _, t0, p0, t1, p1, start, end, time_from_start, segment = hit
+            if segment is not None and not ((p0.velocities and p1.velocities) or (p0.accelerations and p1.accelerations)):
+                out = segment.at(sample_time)  # still linear (is_spline within the segment): its slopes as they were
+            else:
+                out = self._interpolate(t0, p0, t1, p1, sample_time)
             if time_from_start is not None:
                 out.time_from_start = time_from_start
-            return TrajectorySample(out, start, end)
+            result: TrajectorySample | None = TrajectorySample(out, start, end)
+        else:
+            result = self._sample(sample_time, method)
+        self._last = (sample_time, method, result)
+        return result
+
+    def _linear_segment(self, t0: float, p0: JointTrajectoryPoint, t1: float, p1: JointTrajectoryPoint,
+                        ) -> LinearSegment | None:
+        """The segment :meth:`_interpolate` just sampled from ``p0`` to ``p1``, if it was linear (else None)."""
+        segment = self._segment
+        return segment if segment is not None and segment.matches(t0, p0, t1, p1) else None
+
+    def _sample(self, sample_time: float, method: InterpolationMethod) -> TrajectorySample | None:
         msg = self._msg
         if msg is None or not msg.points:
             return None
@@ -211,7 +222,7 @@ class Trajectory:
                 deduce_from_derivatives(self._state_before, first, dim, first_time - self._time_before)
                 out = self._interpolate(self._time_before, self._state_before, first_time, first, sample_time)
                 self._hit = (self._time_before, first_time, self._time_before, self._state_before, first_time, first,
-                             0, 0, None)
+                             0, 0, None, self._linear_segment(self._time_before, self._state_before, first_time, first))
             return TrajectorySample(out, 0, 0)
         for i in range(len(points) - 1):
             t0 = self._start_time + points[i].time_from_start
@@ -222,7 +233,8 @@ class Trajectory:
                 else:
                     deduce_from_derivatives(points[i], points[i + 1], dim, t1 - t0)
                     out = self._interpolate(t0, points[i], t1, points[i + 1], sample_time)
-                    self._hit = (t0, t1, t0, points[i], t1, points[i + 1], i, i + 1, points[i + 1].time_from_start)
+                    self._hit = (t0, t1, t0, points[i], t1, points[i + 1], i, i + 1, points[i + 1].time_from_start,
+                                 self._linear_segment(t0, points[i], t1, points[i + 1]))
                 out.time_from_start = points[i + 1].time_from_start
                 return TrajectorySample(out, i, i + 1)
         # the whole trajectory has played out: hold the last waypoint
