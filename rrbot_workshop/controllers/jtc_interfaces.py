@@ -11,7 +11,7 @@ controller restarts), and the commands of a sample.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 
 from rrbot_workshop.hardware_interface.handles import (
     LoanedCommandInterface,
@@ -150,6 +150,14 @@ class JointInterfaces:
         if len(values) < self._dof:
             return  # e.g. interpolation 'none' and a waypoint without that field
         self._write_command[kind](values if self._identity else [values[j] for j in self._cmd_to_joint])
+
+    def writer(self, kind: str) -> Callable[[Sequence[float]], None]:
+        """:meth:`write` for one ``kind``, prepared: a function of per-joint values, at least one per joint (the
+        caller checks the count; a controller takes one per kind at activation, as it writes every cycle)."""
+        write, cmd_to_joint = self._write_command[kind], self._cmd_to_joint
+        if self._identity:
+            return write
+        return lambda values: write([values[j] for j in cmd_to_joint])
 
     def stop_motion(self) -> None:
         """Set every velocity, acceleration and effort command to 0 (positions keep their last value)."""

@@ -20,6 +20,7 @@ __all__ = [
     "hold_position_trajectory",
     "last_waypoint_trajectory",
     "controller_state_message",
+    "controller_state_from_commands",
 ]
 
 _FIELDS = ("positions", "velocities", "accelerations", "effort")
@@ -119,3 +120,18 @@ def controller_state_message(
     msg.output = output
     msg.desired, msg.actual = msg.reference, msg.feedback
     return msg
+
+
+def controller_state_from_commands(
+    time: float,
+    joints: Sequence[str],
+    desired: JointTrajectoryPoint,
+    current: JointTrajectoryPoint,
+    error: JointTrajectoryPoint,
+    commands: tuple[list[float], list[float], list[float], list[float]],
+) -> JointTrajectoryControllerState:
+    """:func:`controller_state_message` from the command values a cycle read, per field of a point (the output
+    point is made here: a cycle publishes the message lazily, and it is built when someone reads it)."""
+    positions, velocities, accelerations, effort = commands
+    output = JointTrajectoryPoint(positions, velocities, accelerations, effort)
+    return controller_state_message(time, joints, desired, current, error, output)
