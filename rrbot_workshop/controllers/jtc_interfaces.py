@@ -27,6 +27,10 @@ __all__ = ["JointInterfaces"]
 #: The command kinds in the order of JointTrajectoryPoint's fields (positions, velocities, accelerations, effort).
 _POINT_KINDS = ("position", "velocity", "acceleration", "effort")
 
+#: Per field of a point (positions, velocities, accelerations, effort), the command values, or None for a kind the
+#: controller does not command.
+CommandValues = tuple[list[float] | None, list[float] | None, list[float] | None, list[float] | None]
+
 
 class JointInterfaces:
     """The command and state interfaces of an active JTC, per kind in joint order.
@@ -133,16 +137,19 @@ class JointInterfaces:
 
     def command_point(self) -> JointTrajectoryPoint:
         """The current commands as a point (fields of the missing command kinds stay empty)."""
-        return JointTrajectoryPoint(*self.command_values_now())
+        p, v, a, e = self.command_values_now()
+        return JointTrajectoryPoint([] if p is None else p, [] if v is None else v, [] if a is None else a,
+                                    [] if e is None else e)
 
-    def command_values_now(self) -> tuple[list[float], list[float], list[float], list[float]]:
-        """The current commands, per field of a point (:meth:`command_point` without the point: a cycle keeps the
-        numbers and builds the point only when someone reads its message)."""
+    def command_values_now(self) -> CommandValues:
+        """The current commands, per field of a point, None for a kind the controller does not command
+        (:meth:`command_point` without the point: a cycle keeps the numbers and builds the point only when someone
+        reads its message)."""
         if self._identity:  # every joint commanded: each field is one read (the common case, in every cycle)
             rp, rv, ra, re = self._command_readers
-            return (rp() if rp is not None else [], rv() if rv is not None else [], ra() if ra is not None else [],
-                    re() if re is not None else [])
-        p, v, a, e = (self.command_values(kind, math.nan) if kind in self._commands else [] for kind in _POINT_KINDS)
+            return (rp() if rp is not None else None, rv() if rv is not None else None,
+                    ra() if ra is not None else None, re() if re is not None else None)
+        p, v, a, e = (self.command_values(kind, math.nan) if kind in self._commands else None for kind in _POINT_KINDS)
         return p, v, a, e
 
     def write(self, kind: str, values: Sequence[float]) -> None:

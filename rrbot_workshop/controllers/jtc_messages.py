@@ -128,10 +128,12 @@ def controller_state_from_commands(
     desired: JointTrajectoryPoint,
     current: JointTrajectoryPoint,
     error: JointTrajectoryPoint,
-    commands: tuple[list[float], list[float], list[float], list[float]],
+    commands: tuple[list[float] | None, list[float] | None, list[float] | None, list[float] | None],
 ) -> JointTrajectoryControllerState:
-    """:func:`controller_state_message` from the command values a cycle read, per field of a point (the output
-    point is made here: a cycle publishes the message lazily, and it is built when someone reads it)."""
-    positions, velocities, accelerations, effort = commands
-    output = JointTrajectoryPoint(positions, velocities, accelerations, effort)
+    """:func:`controller_state_message` from the command values a cycle read, per field of a point, None for a kind
+    the controller does not command (the output point is made here: a cycle publishes the message lazily, and it is
+    built when someone reads it)."""
+    p, v, a, e = commands
+    output = JointTrajectoryPoint([] if p is None else p, [] if v is None else v, [] if a is None else a,
+                                  [] if e is None else e)
     return controller_state_message(time, joints, desired, current, error, output)

@@ -183,8 +183,9 @@ class Trajectory:
         if hit is not None and hit[0] <= sample_time < hit[1] and method is not InterpolationMethod.NONE:
             # the segment of the last sample, whose fields were deduced then: the same numbers, without the search
             _, _, t0, p0, t1, p1, start, end, time_from_start, segment = hit
-            if segment is not None and not ((p0.velocities and p1.velocities) or (p0.accelerations and p1.accelerations)):
-                out = segment.at(sample_time)  # still linear (is_spline within the segment): its slopes as they were
+            spline = (p0.velocities and p1.velocities) or (p0.accelerations and p1.accelerations)  # is_spline inside
+            if segment is not None and not spline:
+                out = segment.at(sample_time)  # the linear segment found with the hit: its slopes as they were
             else:
                 out = self._interpolate(t0, p0, t1, p1, sample_time)
             if time_from_start is not None:
