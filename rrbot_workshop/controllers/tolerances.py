@@ -191,7 +191,7 @@ def state_error_function(
     def state_error(current: JointTrajectoryPoint, desired: JointTrajectoryPoint) -> JointTrajectoryPoint:
         cur, des = current.positions, desired.positions
         if wrap is None:  # no continuous joint
-            positions = differences(des, cur)
+            positions = list(map(operator.sub, des, cur)) if len(des) == n and len(cur) == n else differences(des, cur)
         else:
             positions = [shortest_angular_distance(cur[i], des[i]) if wrap[i] else des[i] - cur[i] for i in joints]
         velocities = (differences(desired.velocities, current.velocities) if v_error
@@ -212,21 +212,23 @@ def check_state_tolerance_per_joint(
     state_error: JointTrajectoryPoint, index: int, tolerance: StateTolerances, show_errors: bool = False
 ) -> bool:
     """True if joint ``index`` is within every tolerance that is > 0 (missing error fields count as 0)."""
-    if tolerance.position <= 0.0 and tolerance.velocity <= 0.0 and tolerance.acceleration <= 0.0:
-        return True  # nothing to check (the default for most joints): the cycle's common case
-    def err(values: list[float]) -> float:
-        return values[index] if len(values) > index else 0.0
-
-    checks = (
-        ("position", tolerance.position, err(state_error.positions)),
-        ("velocity", tolerance.velocity, err(state_error.velocities)),
-        ("acceleration", tolerance.acceleration, err(state_error.accelerations)),
-    )
-    ok = True
-    for name, tol, error in checks:
-        # a NaN error fails the check: not knowing where the joint is is not "within tolerance"
-        if tol > 0.0 and (abs(error) > tol or math.isnan(error)):
-            ok = False
-            if show_errors:
-                _log.error("joint %d: %s error %.6g exceeds the tolerance %.6g", index, name, error, tol)
+    position, velocity, acceleration = tolerance.position, tolerance.velocity, tolerance.acceleration
+    ok = True  # each check that fails logs (with show_errors), in the order position, velocity, acceleration
+    if position > 0.0 and not _within("position", position, state_error.positions, index, show_errors):
+        ok = False
+    if velocity > 0.0 and not _within("velocity", velocity, state_error.velocities, index, show_errors):
+        ok = False
+    if acceleration > 0.0 and not _within("acceleration", acceleration, state_error.accelerations, index, show_errors):
+        ok = False
     return ok
+
+
+def _within(name: str, tolerance: float, errors: list[float], index: int, show_errors: bool) -> bool:
+    """One check of :func:`check_state_tolerance_per_joint` (``tolerance`` > 0)."""
+    error = errors[index] if len(errors) > index else 0.0
+    # a NaN error fails the check: not knowing where the joint is is not "within tolerance"
+    if abs(error) > tolerance or math.isnan(error):
+        if show_errors:
+            _log.error("joint %d: %s error %.6g exceeds the tolerance %.6g", index, name, error, tolerance)
+        return False
+    return True
