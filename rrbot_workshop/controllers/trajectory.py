@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import copy
 import enum
+import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -93,6 +94,9 @@ class Trajectory:
         #: its LinearSegment or None for a spline). A sample within [from, until) is that segment's, found without the
         #: search (see :meth:`sample`).
         self._hit: tuple[Any, ...] | None = None
+        #: From this time on the trajectory has played out (the search found it so, and no waypoint is later): a sample
+        #: holds the last waypoint, found without the search (see :meth:`sample`).
+        self._ended_from = math.inf
         #: The last sample: (time, method, sample). The JTC samples one period ahead, so this cycle's desired state is
         #: the last cycle's command: the same time, the same trajectory, the same numbers (see :meth:`sample`).
         self._last: tuple[float, InterpolationMethod, TrajectorySample | None] | None = None
@@ -108,6 +112,7 @@ class Trajectory:
         self._start_time = float(trajectory_msg.header.stamp)
         self._sampled_already = False
         self._hit = None
+        self._ended_from = math.inf
         self._last = None
 
     def set_point_before_trajectory_msg(
@@ -121,6 +126,7 @@ class Trajectory:
         """
         self._time_before = current_time
         self._hit = None
+        self._ended_from = math.inf
         self._last = None
         state = current_point.copy()
         first = self._msg.points[0] if self._msg is not None and self._msg.points else None
@@ -191,6 +197,8 @@ class Trajectory:
             if time_from_start is not None:
                 out.time_from_start = time_from_start
             result: TrajectorySample | None = TrajectorySample(out, start, end)
+        elif sample_time >= self._ended_from:
+            result = self._hold_last_waypoint()
         else:
             result = self._sample(sample_time, method)
         self._last = (sample_time, method, result)
@@ -238,7 +246,14 @@ class Trajectory:
                                  self._linear_segment(t0, points[i], t1, points[i + 1]))
                 out.time_from_start = points[i + 1].time_from_start
                 return TrajectorySample(out, i, i + 1)
-        # the whole trajectory has played out: hold the last waypoint
+        # the whole trajectory has played out: hold the last waypoint, now and at any time past every waypoint (max
+        # skips a NaN time, which no segment contains; a NaN time before the trajectory gives NaN: no shortcut)
+        self._ended_from = max(self._time_before, *(self._start_time + p.time_from_start for p in points))
+        return self._hold_last_waypoint()
+
+    def _hold_last_waypoint(self) -> TrajectorySample:
+        """The sample once the trajectory has played out: the last waypoint, with zeros for its missing fields."""
+        points = self._msg.points  # type: ignore[union-attr]  # only called with a message that has points
         out = points[-1].copy()
         n = len(out.positions)
         if not out.velocities:
