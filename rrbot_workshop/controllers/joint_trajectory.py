@@ -64,6 +64,8 @@ __all__ = ["JointTrajectoryController", "interpolate_between_points"]
 _KINDS = ("position", "velocity", "acceleration", "effort")
 #: Per command kind, the field of a sample it is written from.
 _FIELDS = ("positions", "velocities", "accelerations", "effort")
+#: ``ReturnType.OK``, looked up once (an enum member costs a class attribute lookup every time).
+_OK = ReturnType.OK
 
 
 def _continuous_joints(urdf: str) -> set[str]:
@@ -363,7 +365,7 @@ class JointTrajectoryController(ControllerInterface, FollowJointTrajectoryServer
             # built when someone reads it: this cycle's points are never changed afterwards (each cycle makes new ones)
             pub.publish_lazy(controller_state_from_commands, time, self._p.joints, self.state_desired, current,
                              self.state_error, io.command_values_now())  # the commands now, not when it is read
-        return ReturnType.OK
+        return _OK
 
     def _write_pid_commands(self, io: JointInterfaces, nxt: JointTrajectoryPoint, period: float) -> None:
         """Write what the PIDs make of the errors, with the sample's velocity (and effort) as feed-forward."""

@@ -51,6 +51,10 @@ class InterpolationMethod(enum.Enum):
     NONE = "none"
 
 
+#: ``InterpolationMethod.NONE``, looked up once (an enum member costs a class attribute lookup every time).
+_NO_INTERPOLATION = InterpolationMethod.NONE
+
+
 @dataclass
 class TrajectorySample:
     """Result of :meth:`Trajectory.sample`.
@@ -186,7 +190,7 @@ class Trajectory:
         if last is not None and last[0] == sample_time and last[1] is method:
             return last[2]  # sampled at this very time since the trajectory last changed: nothing to compute again
         hit = self._hit
-        if hit is not None and hit[0] <= sample_time < hit[1] and method is not InterpolationMethod.NONE:
+        if hit is not None and hit[0] <= sample_time < hit[1] and method is not _NO_INTERPOLATION:
             # the segment of the last sample, whose fields were deduced then: the same numbers, without the search
             _, _, t0, p0, t1, p1, start, end, time_from_start, segment = hit
             spline = (p0.velocities and p1.velocities) or (p0.accelerations and p1.accelerations)  # is_spline inside
