@@ -146,11 +146,12 @@ class LinearSegment:
         p1: Second waypoint.
     """
 
-    __slots__ = ("t0", "t1", "p0", "p1", "_dim", "_big_t", "_x0", "_slopes", "_e0", "_effort_slopes", "_np")
+    __slots__ = ("t0", "t1", "p0", "p1", "_dim", "_joints", "_big_t", "_x0", "_slopes", "_e0", "_effort_slopes", "_np")
 
     def __init__(self, t0: float, p0: JointTrajectoryPoint, t1: float, p1: JointTrajectoryPoint) -> None:
         self.t0, self.t1, self.p0, self.p1 = t0, t1, p0, p1
         dim = self._dim = len(p0.positions)
+        self._joints = range(dim)
         big_t = self._big_t = t1 - t0
         x0, x1 = p0.positions, p1.positions
         self._x0 = list(x0[:dim])
@@ -189,13 +190,14 @@ class LinearSegment:
                 effort = [0.0] * dim
             else:
                 effort = (e0 + es * tau).tolist() if es is not None else (e0 + 0.0).tolist()
-        else:
-            positions = [x + s * tau for x, s in zip(self._x0, self._slopes, strict=True)]
+        else:  # indexing over a prepared range: for a few joints the cheapest loop (zip with strict= is not)
+            x0, slopes, joints = self._x0, self._slopes, self._joints
+            positions = [x0[i] + slopes[i] * tau for i in joints]
             e0l, esl = self._e0, self._effort_slopes
             if e0l is None:
                 effort = [0.0] * dim
             elif esl is not None:
-                effort = [e + s * tau for e, s in zip(e0l, esl, strict=True)]
+                effort = [e0l[i] + esl[i] * tau for i in joints]
             else:
                 effort = [e + 0.0 for e in e0l]
         return JointTrajectoryPoint(positions, list(self._slopes), [0.0] * dim, effort, t - self.t0)

@@ -21,7 +21,9 @@ reshapes and builds) and :mod:`.jtc_action_server` (FollowJointTrajectory goals)
 from __future__ import annotations
 
 import copy
+import operator
 import xml.etree.ElementTree as ET
+from collections.abc import Callable, Sequence
 from typing import Any
 
 from rrbot_workshop.controller_interface.base import (
@@ -39,7 +41,7 @@ from rrbot_workshop.controllers.joint_trajectory_parameters import (
 from rrbot_workshop.controllers.jtc_action_server import FollowJointTrajectoryServer
 from rrbot_workshop.controllers.jtc_interfaces import JointInterfaces
 from rrbot_workshop.controllers.jtc_messages import (
-    controller_state_message,
+    controller_state_from_commands,
     fill_partial_goal,
     hold_position_trajectory,
     last_waypoint_trajectory,
@@ -48,8 +50,9 @@ from rrbot_workshop.controllers.jtc_messages import (
 from rrbot_workshop.controllers.tolerances import (
     SegmentTolerances,
     check_state_tolerance_per_joint,
-    compute_state_error,
+    checked_joints,
     get_segment_tolerances,
+    state_error_function,
 )
 from rrbot_workshop.controllers.trajectory import InterpolationMethod, Trajectory, interpolate_between_points
 from rrbot_workshop.exceptions import ParameterError
@@ -59,6 +62,10 @@ from rrbot_workshop.msgs import JointTrajectory, JointTrajectoryControllerState,
 __all__ = ["JointTrajectoryController", "interpolate_between_points"]
 
 _KINDS = ("position", "velocity", "acceleration", "effort")
+#: Per command kind, the field of a sample it is written from.
+_FIELDS = ("positions", "velocities", "accelerations", "effort")
+#: ``ReturnType.OK``, looked up once (an enum member costs a class attribute lookup every time).
+_OK = ReturnType.OK
 
 
 def _continuous_joints(urdf: str) -> set[str]:
@@ -79,6 +86,7 @@ class JointTrajectoryController(ControllerInterface, FollowJointTrajectoryServer
         super().__init__()
         self.last_rejection: str | None = None
         self._p: Any = None
+        self._dof = 0  # the number of joints, once configured
         self._wraparound: list[bool] = []
         self._trajectory: Trajectory | None = None
         self._pending: JointTrajectory | None = None
@@ -102,6 +110,11 @@ class JointTrajectoryController(ControllerInterface, FollowJointTrajectoryServer
         self.state_error = JointTrajectoryPoint()
         self.command_next = JointTrajectoryPoint()
         self._checked: tuple[SegmentTolerances, list[int], list[int]] | None = None
+        # prepared at configure and activation, used in every cycle
+        self._from_desired = False
+        self._state_error_of = state_error_function((), dict.fromkeys(_KINDS, False), dict.fromkeys(_KINDS, False))
+        self._writes: list[tuple[Callable[[Sequence[float]], None], Callable[[JointTrajectoryPoint], list[float]],
+                                 bool]] = []
 
     # ----------------------------------------------------------------- configuration
     def on_init(self) -> CallbackReturn:
@@ -123,10 +136,6 @@ class JointTrajectoryController(ControllerInterface, FollowJointTrajectoryServer
         self._wraparound = [j in continuous for j in params.joints]
         return CallbackReturn.SUCCESS
 
-    @property
-    def _dof(self) -> int:
-        return len(self._p.joints)
-
     def _command_joints(self, params: Any) -> list[str]:
         return list(params.command_joints) or list(params.joints)
 
@@ -146,6 +155,7 @@ class JointTrajectoryController(ControllerInterface, FollowJointTrajectoryServer
         """Read the parameters, set up PIDs, tolerances, topics."""
         assert self.param_listener is not None
         p = self._p = self.param_listener.get_params()
+        self._dof = len(p.joints)
         try:
             check_interface_combinations(p, self.get_name())
         except ParameterError as exc:
@@ -180,6 +190,8 @@ class JointTrajectoryController(ControllerInterface, FollowJointTrajectoryServer
                 self._ff.append(g.ff_velocity_scale)
         self._default_tol = self._active_tol = get_segment_tolerances(p)
         self._method = InterpolationMethod(p.interpolation_method)
+        self._from_desired = bool(p.interpolate_from_desired_state or p.open_loop_control)
+        self._state_error_of = state_error_function(self._wraparound, self._has_state, self._has_cmd)
         node = self.get_node()
         if self._sub is None:
             self._sub = node.create_subscription(JointTrajectory, "~/joint_trajectory", self._topic_callback)
@@ -208,6 +220,10 @@ class JointTrajectoryController(ControllerInterface, FollowJointTrajectoryServer
         except KeyError as exc:
             self.logger.error("'%s': interface %s was not assigned", self.get_name(), exc)
             return CallbackReturn.ERROR
+        # without a PID, each command kind is written from its field of the sample one period ahead; with
+        # [position, effort] upstream writes the effort sampled at `time` (the desired state), not one period ahead
+        self._writes = [(io.writer(kind), operator.attrgetter(field), kind == "effort")
+                        for kind, field in zip(_KINDS, _FIELDS, strict=True) if self._has_cmd[kind]]
         for pid in self._pids:
             pid.reset()
         self._trajectory = Trajectory()
@@ -239,6 +255,7 @@ class JointTrajectoryController(ControllerInterface, FollowJointTrajectoryServer
         if self._io is not None:
             self._io.stop_motion()
         self._io = None
+        self._writes = []
         self._subscriber_active = False
         self._trajectory = None
         self._pending = None
@@ -275,108 +292,91 @@ class JointTrajectoryController(ControllerInterface, FollowJointTrajectoryServer
         """Sample the trajectory, check tolerances, write commands, publish the state."""
         io = self._io
         assert io is not None, "update() runs only while active"
-        if self._pending is not None and self._trajectory is not None:
+        traj = self._trajectory
+        if self._pending is not None and traj is not None:
             msg, self._pending = self._pending, None
             if len(msg.joint_names) != self._dof:
                 fill_partial_goal(msg, self._p.joints, io.positions_to_hold())
             sort_to_joint_order(msg, self._p.joints)
-            self._trajectory.update(msg)
-        self.state_current = io.read_state()
-        traj = self._trajectory
+            traj.update(msg)
+        self.state_current = current = io.read_state()
         if traj is not None and traj.has_trajectory_msg():
-            first_sample = False
-            if not traj.is_sampled_already():
-                first_sample = True
-                if self._p.interpolate_from_desired_state or self._p.open_loop_control:
+            first_sample = not traj.is_sampled_already()
+            if first_sample:
+                if self._from_desired:
                     if abs(self._last_cmd_time) < 1.2e-7:
                         self._last_cmd_time = time
                     traj.set_point_before_trajectory_msg(self._last_cmd_time, self._last_cmd_state, self._wraparound)
                 else:
-                    traj.set_point_before_trajectory_msg(time, self.state_current, self._wraparound)
-                self._traj_time = time
+                    traj.set_point_before_trajectory_msg(time, current, self._wraparound)
+                self._traj_time = traj_time = time
             else:
-                self._traj_time += period
-            desired = traj.sample(self._traj_time, self._method)
-            nxt = traj.sample(self._traj_time + self._update_period, self._method)
+                self._traj_time = traj_time = self._traj_time + period
+            desired = traj.sample(traj_time, self._method)
+            nxt = traj.sample(traj_time + self._update_period, self._method)
             if desired is not None and nxt is not None:
-                self.state_desired, self.command_next = desired.point, nxt.point
+                self.state_desired, self.command_next = desired_point, nxt_point = desired.point, nxt.point
                 running = traj.trajectory_msg
                 assert running is not None
-                segment_start = traj.time_from_start + running.points[nxt.start_index].time_from_start
-                time_difference = self._traj_time - segment_start
-                before_last_point = nxt.end_index != len(running.points)
+                points = running.points
+                time_difference = traj_time - (traj.time_from_start + points[nxt.start_index].time_from_start)
+                before_last_point = nxt.end_index != len(points)
                 tol = self._active_tol
                 if not before_last_point and not self._is_holding and self._cmd_timeout > 0.0 \
                         and time_difference > self._cmd_timeout:
                     self.logger.warning("'%s': aborted due to command timeout", self.get_name())
                     self._pending = self._hold_position()
-                self.state_error = err = compute_state_error(self.state_current, self.state_desired, self._wraparound,
-                                                             self._has_state, self._has_cmd)
+                self.state_error = err = self._state_error_of(current, desired_point)
                 violated, outside_goal, within_goal_time = False, False, True
                 if not self._is_holding:  # only joints with a tolerance above 0 can fail a check
-                    state_checked, goal_checked = self._checked_joints(tol)
+                    checked = self._checked
+                    if checked is None or checked[0] is not tol:  # a goal's tolerances replace the set, never change
+                        checked = self._checked = (tol, checked_joints(tol.state_tolerance, self._dof),
+                                                   checked_joints(tol.goal_state_tolerance, self._dof))
                     if before_last_point or first_sample:
-                        for i in state_checked:
+                        for i in checked[1]:
                             if not check_state_tolerance_per_joint(err, i, tol.state_tolerance[i], True):
                                 violated = True
                     if not before_last_point:
-                        for i in goal_checked:
+                        for i in checked[2]:
                             if not check_state_tolerance_per_joint(err, i, tol.goal_state_tolerance[i]):
                                 outside_goal = True
                                 if tol.goal_time_tolerance != 0.0 and time_difference > tol.goal_time_tolerance:
                                     within_goal_time = False
                 if not violated and within_goal_time:
-                    self._write_commands(io, time, period)
+                    if self._use_pid:
+                        self._write_pid_commands(io, nxt_point, period)
+                    else:
+                        dof = self._dof
+                        for write, field, from_desired in self._writes:
+                            values = field(desired_point if from_desired else nxt_point)
+                            if len(values) >= dof:  # e.g. interpolation 'none' and a waypoint without that field
+                                write(values)
+                    # the sample is a new point every cycle and nothing changes it afterwards (a new trajectory starts
+                    # from a copy of it), so it is kept as it is
+                    self._last_cmd_state = nxt_point
+                    self._last_cmd_time = time
                 if self._active_goal is not None or violated or not (before_last_point or within_goal_time):
                     # a goal to report on, or a tolerance to act on (without either, the outcome is "carry on")
                     self._handle_outcome(time, violated, before_last_point, outside_goal, within_goal_time,
                                          time_difference)
-        self._publish_state(io, time)
-        return ReturnType.OK
+        pub = self._pub
+        if pub is not None:
+            # built when someone reads it: this cycle's points are never changed afterwards (each cycle makes new ones)
+            pub.publish_lazy(controller_state_from_commands, time, self._p.joints, self.state_desired, current,
+                             self.state_error, io.command_values_now())  # the commands now, not when it is read
+        return _OK
 
-    def _checked_joints(self, tol: SegmentTolerances) -> tuple[list[int], list[int]]:
-        """The joints whose state and goal tolerances check anything, worked out once per tolerance set (a goal's
-        tolerances replace the set; they are never changed in place)."""
-        cached = self._checked
-        if cached is None or cached[0] is not tol:
-            def checked(tolerances: list[Any]) -> list[int]:
-                return [i for i, t in enumerate(tolerances[:self._dof])
-                        if t.position > 0.0 or t.velocity > 0.0 or t.acceleration > 0.0]
-
-            cached = self._checked = (tol, checked(tol.state_tolerance), checked(tol.goal_state_tolerance))
-        return cached[1], cached[2]
-
-    def _write_commands(self, io: JointInterfaces, time: float, period: float) -> None:
-        nxt = self.command_next
-        pid_out: list[float] = []
-        if self._use_pid:
-            pid_out = [0.0] * self._dof
-            vel_err = self.state_error.velocities or [0.0] * self._dof
-            for k, idx in enumerate(self._map_cmd_to_joints):
-                ff_effort = nxt.effort[idx] if self._has_cmd["effort"] and nxt.effort else 0.0
-                ff_vel = nxt.velocities[idx] if nxt.velocities else 0.0
-                pid_out[idx] = ff_vel * self._ff[k] + ff_effort + self._pids[k].compute_command(
-                    self.state_error.positions[idx], vel_err[idx], period)
-        if self._has_cmd["position"]:
-            io.write("position", nxt.positions)
-        if self._has_cmd["velocity"]:
-            io.write("velocity", pid_out if self._use_pid else nxt.velocities)
-        if self._has_cmd["acceleration"]:
-            io.write("acceleration", nxt.accelerations)
-        if self._has_cmd["effort"]:
-            # with [position, effort] upstream writes the effort sampled at `time`, not one period ahead
-            io.write("effort", pid_out if self._use_pid else self.state_desired.effort)
-        # the sample is a new point every cycle and nothing changes it afterwards (a new trajectory starts from a copy
-        # of it), so it is kept as it is
-        self._last_cmd_state = nxt
-        self._last_cmd_time = time
-
-    def _publish_state(self, io: JointInterfaces, time: float) -> None:
-        if self._pub is None:
-            return
-        # built when someone reads it: this cycle's points are never changed afterwards (each cycle makes new ones)
-        self._pub.publish_lazy(_state_message, time, self._p.joints, self.state_desired, self.state_current,
-                               self.state_error, io.command_values_now())  # the commands now, not when it is read
+    def _write_pid_commands(self, io: JointInterfaces, nxt: JointTrajectoryPoint, period: float) -> None:
+        """Write what the PIDs make of the errors, with the sample's velocity (and effort) as feed-forward."""
+        pid_out = [0.0] * self._dof
+        vel_err = self.state_error.velocities or [0.0] * self._dof
+        for k, idx in enumerate(self._map_cmd_to_joints):
+            ff_effort = nxt.effort[idx] if self._has_cmd["effort"] and nxt.effort else 0.0
+            ff_vel = nxt.velocities[idx] if nxt.velocities else 0.0
+            pid_out[idx] = ff_vel * self._ff[k] + ff_effort + self._pids[k].compute_command(
+                self.state_error.positions[idx], vel_err[idx], period)
+        io.write("velocity" if self._has_cmd["velocity"] else "effort", pid_out)
 
     # ----------------------------------------------------------------- introspection
     @property
@@ -389,11 +389,3 @@ class JointTrajectoryController(ControllerInterface, FollowJointTrajectoryServer
         """The trajectory being sampled (None while inactive)."""
         return self._trajectory
 
-
-def _state_message(time: float, joints: list[str], desired: JointTrajectoryPoint, current: JointTrajectoryPoint,
-                   error: JointTrajectoryPoint, commands: tuple[list[float], list[float], list[float], list[float]],
-                   ) -> JointTrajectoryControllerState:
-    """:func:`controller_state_message` from the command values a cycle read (the output point is made here)."""
-    positions, velocities, accelerations, effort = commands
-    output = JointTrajectoryPoint(positions, velocities, accelerations, effort)
-    return controller_state_message(time, joints, desired, current, error, output)

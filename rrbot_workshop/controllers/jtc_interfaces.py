@@ -11,7 +11,7 @@ controller restarts), and the commands of a sample.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 
 from rrbot_workshop.hardware_interface.handles import (
     LoanedCommandInterface,
@@ -26,6 +26,10 @@ __all__ = ["JointInterfaces"]
 
 #: The command kinds in the order of JointTrajectoryPoint's fields (positions, velocities, accelerations, effort).
 _POINT_KINDS = ("position", "velocity", "acceleration", "effort")
+
+#: Per field of a point (positions, velocities, accelerations, effort), the command values, or None for a kind the
+#: controller does not command.
+CommandValues = tuple[list[float] | None, list[float] | None, list[float] | None, list[float] | None]
 
 
 class JointInterfaces:
@@ -133,16 +137,19 @@ class JointInterfaces:
 
     def command_point(self) -> JointTrajectoryPoint:
         """The current commands as a point (fields of the missing command kinds stay empty)."""
-        return JointTrajectoryPoint(*self.command_values_now())
+        p, v, a, e = self.command_values_now()
+        return JointTrajectoryPoint([] if p is None else p, [] if v is None else v, [] if a is None else a,
+                                    [] if e is None else e)
 
-    def command_values_now(self) -> tuple[list[float], list[float], list[float], list[float]]:
-        """The current commands, per field of a point (:meth:`command_point` without the point: a cycle keeps the
-        numbers and builds the point only when someone reads its message)."""
+    def command_values_now(self) -> CommandValues:
+        """The current commands, per field of a point, None for a kind the controller does not command
+        (:meth:`command_point` without the point: a cycle keeps the numbers and builds the point only when someone
+        reads its message)."""
         if self._identity:  # every joint commanded: each field is one read (the common case, in every cycle)
             rp, rv, ra, re = self._command_readers
-            return (rp() if rp is not None else [], rv() if rv is not None else [], ra() if ra is not None else [],
-                    re() if re is not None else [])
-        p, v, a, e = (self.command_values(kind, math.nan) if kind in self._commands else [] for kind in _POINT_KINDS)
+            return (rp() if rp is not None else None, rv() if rv is not None else None,
+                    ra() if ra is not None else None, re() if re is not None else None)
+        p, v, a, e = (self.command_values(kind, math.nan) if kind in self._commands else None for kind in _POINT_KINDS)
         return p, v, a, e
 
     def write(self, kind: str, values: Sequence[float]) -> None:
@@ -150,6 +157,14 @@ class JointInterfaces:
         if len(values) < self._dof:
             return  # e.g. interpolation 'none' and a waypoint without that field
         self._write_command[kind](values if self._identity else [values[j] for j in self._cmd_to_joint])
+
+    def writer(self, kind: str) -> Callable[[Sequence[float]], None]:
+        """:meth:`write` for one ``kind``, prepared: a function of per-joint values, at least one per joint (the
+        caller checks the count; a controller takes one per kind at activation, as it writes every cycle)."""
+        write, cmd_to_joint = self._write_command[kind], self._cmd_to_joint
+        if self._identity:
+            return write
+        return lambda values: write([values[j] for j in cmd_to_joint])
 
     def stop_motion(self) -> None:
         """Set every velocity, acceleration and effort command to 0 (positions keep their last value)."""

@@ -20,6 +20,7 @@ __all__ = [
     "hold_position_trajectory",
     "last_waypoint_trajectory",
     "controller_state_message",
+    "controller_state_from_commands",
 ]
 
 _FIELDS = ("positions", "velocities", "accelerations", "effort")
@@ -119,3 +120,20 @@ def controller_state_message(
     msg.output = output
     msg.desired, msg.actual = msg.reference, msg.feedback
     return msg
+
+
+def controller_state_from_commands(
+    time: float,
+    joints: Sequence[str],
+    desired: JointTrajectoryPoint,
+    current: JointTrajectoryPoint,
+    error: JointTrajectoryPoint,
+    commands: tuple[list[float] | None, list[float] | None, list[float] | None, list[float] | None],
+) -> JointTrajectoryControllerState:
+    """:func:`controller_state_message` from the command values a cycle read, per field of a point, None for a kind
+    the controller does not command (the output point is made here: a cycle publishes the message lazily, and it is
+    built when someone reads it)."""
+    p, v, a, e = commands
+    output = JointTrajectoryPoint([] if p is None else p, [] if v is None else v, [] if a is None else a,
+                                  [] if e is None else e)
+    return controller_state_message(time, joints, desired, current, error, output)

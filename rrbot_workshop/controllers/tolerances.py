@@ -12,7 +12,8 @@ from __future__ import annotations
 
 import logging
 import math
-from collections.abc import Mapping, Sequence
+import operator
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -27,6 +28,8 @@ __all__ = [
     "get_segment_tolerances_from_goal",
     "resolve_tolerance_source",
     "compute_state_error",
+    "state_error_function",
+    "checked_joints",
     "check_state_tolerance_per_joint",
 ]
 
@@ -159,48 +162,73 @@ def compute_state_error(
         has_state: State interface kind -> whether the controller reads it.
         has_command: Command interface kind -> whether the controller commands it.
     """
+    return state_error_function(wraparound, has_state, has_command)(current, desired)
+
+
+def state_error_function(
+    wraparound: Sequence[bool], has_state: Mapping[str, bool], has_command: Mapping[str, bool]
+) -> Callable[[JointTrajectoryPoint, JointTrajectoryPoint], JointTrajectoryPoint]:
+    """:func:`compute_state_error` with its joints and interfaces fixed: a function of ``(current, desired)``.
+
+    A JTC prepares it when it is configured; every decision that depends on the interfaces is taken here once,
+    not in every cycle. The numbers are the same as :func:`compute_state_error`'s.
+    """
     n = len(wraparound)
-    cur, des = current.positions, desired.positions
-    if any(wraparound):
-        positions = [shortest_angular_distance(cur[i], des[i]) if wraparound[i] else des[i] - cur[i] for i in range(n)]
-    else:  # no continuous joint: the common case, in every cycle
-        positions = [des[i] - cur[i] for i in range(n)]
-    velocities: list[float] = []
-    if has_state["velocity"]:
-        # As upstream, the velocity error is only computed with a velocity or effort command, so
-        # `stopped_velocity_tolerance` is not checked when the JTC commands positions.
-        if has_command["velocity"] or has_command["effort"]:
-            velocities = [desired.velocities[i] - current.velocities[i] for i in range(n)]
+    joints = range(n)
+    wrap = list(wraparound) if any(wraparound) else None
+    # Per field: whether the state interfaces have it, and whether its error is computed (else it is zeros). As
+    # upstream, the velocity error is only computed with a velocity or effort command, so `stopped_velocity_tolerance`
+    # is not checked when the JTC commands positions.
+    has_v, has_a = has_state["velocity"], has_state["acceleration"]
+    v_error = has_v and (has_command["velocity"] or has_command["effort"])
+    a_error = has_a and has_command["acceleration"]
+
+    def differences(des: list[float], cur: list[float]) -> list[float]:
+        if len(des) == n and len(cur) == n:  # every joint, nothing more: the common case, in every cycle
+            return list(map(operator.sub, des, cur))
+        return [des[i] - cur[i] for i in joints]  # the first n values (fewer: an IndexError)
+
+    def state_error(current: JointTrajectoryPoint, desired: JointTrajectoryPoint) -> JointTrajectoryPoint:
+        cur, des = current.positions, desired.positions
+        if wrap is None:  # no continuous joint
+            positions = list(map(operator.sub, des, cur)) if len(des) == n and len(cur) == n else differences(des, cur)
         else:
-            velocities = [0.0] * n
-    accelerations: list[float] = []
-    if has_state["acceleration"]:
-        if has_command["acceleration"]:
-            accelerations = [desired.accelerations[i] - current.accelerations[i] for i in range(n)]
-        else:
-            accelerations = [0.0] * n
-    return JointTrajectoryPoint(positions, velocities, accelerations, [], 0.0)
+            positions = [shortest_angular_distance(cur[i], des[i]) if wrap[i] else des[i] - cur[i] for i in joints]
+        velocities = (differences(desired.velocities, current.velocities) if v_error
+                      else [0.0] * n if has_v else [])
+        accelerations = (differences(desired.accelerations, current.accelerations) if a_error
+                         else [0.0] * n if has_a else [])
+        return JointTrajectoryPoint(positions, velocities, accelerations, [], 0.0)
+
+    return state_error
+
+
+def checked_joints(tolerances: Sequence[StateTolerances], dof: int) -> list[int]:
+    """The joints (of the first ``dof``) whose tolerance checks anything: one of its values is above 0."""
+    return [i for i, t in enumerate(tolerances[:dof]) if t.position > 0.0 or t.velocity > 0.0 or t.acceleration > 0.0]
 
 
 def check_state_tolerance_per_joint(
     state_error: JointTrajectoryPoint, index: int, tolerance: StateTolerances, show_errors: bool = False
 ) -> bool:
     """True if joint ``index`` is within every tolerance that is > 0 (missing error fields count as 0)."""
-    if tolerance.position <= 0.0 and tolerance.velocity <= 0.0 and tolerance.acceleration <= 0.0:
-        return True  # nothing to check (the default for most joints): the cycle's common case
-    def err(values: list[float]) -> float:
-        return values[index] if len(values) > index else 0.0
-
-    checks = (
-        ("position", tolerance.position, err(state_error.positions)),
-        ("velocity", tolerance.velocity, err(state_error.velocities)),
-        ("acceleration", tolerance.acceleration, err(state_error.accelerations)),
-    )
-    ok = True
-    for name, tol, error in checks:
-        # a NaN error fails the check: not knowing where the joint is is not "within tolerance"
-        if tol > 0.0 and (abs(error) > tol or math.isnan(error)):
-            ok = False
-            if show_errors:
-                _log.error("joint %d: %s error %.6g exceeds the tolerance %.6g", index, name, error, tol)
+    position, velocity, acceleration = tolerance.position, tolerance.velocity, tolerance.acceleration
+    ok = True  # each check that fails logs (with show_errors), in the order position, velocity, acceleration
+    if position > 0.0 and not _within("position", position, state_error.positions, index, show_errors):
+        ok = False
+    if velocity > 0.0 and not _within("velocity", velocity, state_error.velocities, index, show_errors):
+        ok = False
+    if acceleration > 0.0 and not _within("acceleration", acceleration, state_error.accelerations, index, show_errors):
+        ok = False
     return ok
+
+
+def _within(name: str, tolerance: float, errors: list[float], index: int, show_errors: bool) -> bool:
+    """One check of :func:`check_state_tolerance_per_joint` (``tolerance`` > 0)."""
+    error = errors[index] if len(errors) > index else 0.0
+    # a NaN error fails the check: not knowing where the joint is is not "within tolerance"
+    if abs(error) > tolerance or math.isnan(error):
+        if show_errors:
+            _log.error("joint %d: %s error %.6g exceeds the tolerance %.6g", index, name, error, tolerance)
+        return False
+    return True

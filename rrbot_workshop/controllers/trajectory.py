@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import copy
 import enum
+import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -48,6 +49,10 @@ class InterpolationMethod(enum.Enum):
 
     SPLINES = "splines"
     NONE = "none"
+
+
+#: ``InterpolationMethod.NONE``, looked up once (an enum member costs a class attribute lookup every time).
+_NO_INTERPOLATION = InterpolationMethod.NONE
 
 
 @dataclass
@@ -89,9 +94,13 @@ class Trajectory:
         self._time_before = 0.0
         self._state_before = JointTrajectoryPoint()
         self._segment: LinearSegment | None = None
-        #: The segment sampled last: (from, until, t0, p0, t1, p1, start index, end index, time_from_start or None).
-        #: A sample within [from, until) is that segment's, found without the search (see :meth:`sample`).
+        #: The segment sampled last: (from, until, t0, p0, t1, p1, start index, end index, time_from_start or None,
+        #: its LinearSegment or None for a spline). A sample within [from, until) is that segment's, found without the
+        #: search (see :meth:`sample`).
         self._hit: tuple[Any, ...] | None = None
+        #: From this time on the trajectory has played out (the search found it so, and no waypoint is later): a sample
+        #: holds the last waypoint, found without the search (see :meth:`sample`).
+        self._ended_from = math.inf
         #: The last sample: (time, method, sample). The JTC samples one period ahead, so this cycle's desired state is
         #: the last cycle's command: the same time, the same trajectory, the same numbers (see :meth:`sample`).
         self._last: tuple[float, InterpolationMethod, TrajectorySample | None] | None = None
@@ -107,6 +116,7 @@ class Trajectory:
         self._start_time = float(trajectory_msg.header.stamp)
         self._sampled_already = False
         self._hit = None
+        self._ended_from = math.inf
         self._last = None
 
     def set_point_before_trajectory_msg(
@@ -120,6 +130,7 @@ class Trajectory:
         """
         self._time_before = current_time
         self._hit = None
+        self._ended_from = math.inf
         self._last = None
         state = current_point.copy()
         first = self._msg.points[0] if self._msg is not None and self._msg.points else None
@@ -178,19 +189,32 @@ class Trajectory:
         last = self._last
         if last is not None and last[0] == sample_time and last[1] is method:
             return last[2]  # sampled at this very time since the trajectory last changed: nothing to compute again
-        result = self._sample(sample_time, method)
+        hit = self._hit
+        if hit is not None and hit[0] <= sample_time < hit[1] and method is not _NO_INTERPOLATION:
+            # the segment of the last sample, whose fields were deduced then: the same numbers, without the search
+            _, _, t0, p0, t1, p1, start, end, time_from_start, segment = hit
+            spline = (p0.velocities and p1.velocities) or (p0.accelerations and p1.accelerations)  # is_spline inside
+            if segment is not None and not spline:
+                out = segment.at(sample_time)  # the linear segment found with the hit: its slopes as they were
+            else:
+                out = self._interpolate(t0, p0, t1, p1, sample_time)
+            if time_from_start is not None:
+                out.time_from_start = time_from_start
+            result: TrajectorySample | None = TrajectorySample(out, start, end)
+        elif sample_time >= self._ended_from:
+            result = self._hold_last_waypoint()
+        else:
+            result = self._sample(sample_time, method)
         self._last = (sample_time, method, result)
         return result
 
+    def _linear_segment(self, t0: float, p0: JointTrajectoryPoint, t1: float, p1: JointTrajectoryPoint,
+                        ) -> LinearSegment | None:
+        """The segment :meth:`_interpolate` just sampled from ``p0`` to ``p1``, if it was linear (else None)."""
+        segment = self._segment
+        return segment if segment is not None and segment.matches(t0, p0, t1, p1) else None
+
     def _sample(self, sample_time: float, method: InterpolationMethod) -> TrajectorySample | None:
-        hit = self._hit
-        if hit is not None and hit[0] <= sample_time < hit[1] and method is not InterpolationMethod.NONE:
-            # the segment of the last sample, whose fields were deduced then: the same numbers, without the search
-            _, _, t0, p0, t1, p1, start, end, time_from_start = hit
-            out = self._interpolate(t0, p0, t1, p1, sample_time)
-            if time_from_start is not None:
-                out.time_from_start = time_from_start
-            return TrajectorySample(out, start, end)
         msg = self._msg
         if msg is None or not msg.points:
             return None
@@ -211,7 +235,7 @@ class Trajectory:
                 deduce_from_derivatives(self._state_before, first, dim, first_time - self._time_before)
                 out = self._interpolate(self._time_before, self._state_before, first_time, first, sample_time)
                 self._hit = (self._time_before, first_time, self._time_before, self._state_before, first_time, first,
-                             0, 0, None)
+                             0, 0, None, self._linear_segment(self._time_before, self._state_before, first_time, first))
             return TrajectorySample(out, 0, 0)
         for i in range(len(points) - 1):
             t0 = self._start_time + points[i].time_from_start
@@ -222,10 +246,18 @@ class Trajectory:
                 else:
                     deduce_from_derivatives(points[i], points[i + 1], dim, t1 - t0)
                     out = self._interpolate(t0, points[i], t1, points[i + 1], sample_time)
-                    self._hit = (t0, t1, t0, points[i], t1, points[i + 1], i, i + 1, points[i + 1].time_from_start)
+                    self._hit = (t0, t1, t0, points[i], t1, points[i + 1], i, i + 1, points[i + 1].time_from_start,
+                                 self._linear_segment(t0, points[i], t1, points[i + 1]))
                 out.time_from_start = points[i + 1].time_from_start
                 return TrajectorySample(out, i, i + 1)
-        # the whole trajectory has played out: hold the last waypoint
+        # the whole trajectory has played out: hold the last waypoint, now and at any time past every waypoint (max
+        # skips a NaN time, which no segment contains; a NaN time before the trajectory gives NaN: no shortcut)
+        self._ended_from = max(self._time_before, *(self._start_time + p.time_from_start for p in points))
+        return self._hold_last_waypoint()
+
+    def _hold_last_waypoint(self) -> TrajectorySample:
+        """The sample once the trajectory has played out: the last waypoint, with zeros for its missing fields."""
+        points = self._msg.points  # type: ignore[union-attr]  # only called with a message that has points
         out = points[-1].copy()
         n = len(out.positions)
         if not out.velocities:
