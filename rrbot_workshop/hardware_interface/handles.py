@@ -322,14 +322,14 @@ def value_writer(loans: Sequence[LoanedCommandInterface]) -> Callable[[Sequence[
     store = _shared_store(handles)
     if store is None:
         def write_each(values: Sequence[Any]) -> None:
-            for handle, value in zip(handles, values, strict=False):  # extra values are ignored, as before
+            for handle, value in zip(handles, values):  # noqa: B905 - extra values ignored; strict= is slow
                 handle._store[handle._index] = value
 
         return write_each
     indices = [h._index for h in handles]
 
     def write(values: Sequence[Any]) -> None:
-        for index, value in zip(indices, values, strict=False):  # extra values are ignored, as before
+        for index, value in zip(indices, values):  # noqa: B905 - extra values ignored; strict= is slow
             store[index] = value
 
     return write
