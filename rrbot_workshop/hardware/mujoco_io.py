@@ -3,14 +3,15 @@
 ``read`` and ``write`` run every control cycle, so the component does not look names up there: at
 configure time :func:`plan_state_reads` lists, for every ``MjData`` array read, the state interfaces it fills, each
 with its index and sign (the array is turned into Python floats once per cycle); :func:`plan_gpio_mirrors` pairs each
-GPIO command with the same-named GPIO state; and whenever the command modes change :func:`plan_command_writes` lists which command feeds which
-actuator control. The cyclic code is then a flat loop over these lists.
+GPIO command with the same-named GPIO state; and whenever the command modes change :func:`plan_command_writes` lists which
+command feeds which actuator control (:func:`command_write_steps` gives the flat list and index of each command's
+value). The cyclic code is then a flat loop over these lists.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from typing import Any
 
 import mujoco
@@ -21,15 +22,23 @@ from rrbot_workshop.hardware.mujoco_config import FORCE_TORQUE_INTERFACES
 from rrbot_workshop.hardware.mujoco_model import MujocoModel
 from rrbot_workshop.hardware_interface.handles import CommandInterface, StateInterface
 
-__all__ = ["StateRead", "GpioMirror", "CommandWrite", "plan_state_reads", "plan_gpio_mirrors", "plan_command_writes"]
+__all__ = [
+    "StateRead",
+    "GpioMirror",
+    "CommandWrite",
+    "plan_state_reads",
+    "plan_gpio_mirrors",
+    "plan_command_writes",
+    "command_write_steps",
+]
 
 #: ``(array, [(store, slot, index, sign), ...])``: each state (the value in ``store[slot]``, its handle's flat list
 #: and index) becomes ``sign * array[index]``.
 StateRead = tuple[np.ndarray, list[tuple[list[Any], int, int, float]]]
 #: ``(get_command, set_state)``: the state repeats the command.
 GpioMirror = tuple[Callable[[], Any], Callable[[Any], None]]
-#: ``(get_command, actuator)``: the command becomes ``data.ctrl[actuator]``.
-CommandWrite = tuple[Callable[[], Any], int]
+#: ``(command, actuator)``: the command's value becomes ``data.ctrl[actuator]``.
+CommandWrite = tuple[CommandInterface, int]
 
 
 def plan_state_reads(
@@ -109,5 +118,13 @@ def plan_command_writes(
     for joint, mode in modes.items():
         name = f"{joint}/{mode}"
         if mode is not None and name in command_handles:
-            plan.append((command_handles[name].get_value, sim.joints[joint].actuators[mode]))
+            plan.append((command_handles[name], sim.joints[joint].actuators[mode]))
     return plan
+
+
+def command_write_steps(plan: Sequence[CommandWrite]) -> list[tuple[list[Any], int, int]]:
+    """``(store, slot, actuator)`` for each command of ``plan``: the flat list and index its value is in now.
+
+    Build them again when the handles move (``handles.ADOPTIONS``).
+    """
+    return [(command._store, command._index, actuator) for command, actuator in plan]  # noqa: SLF001

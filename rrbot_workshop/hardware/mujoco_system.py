@@ -37,8 +37,10 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
+from typing import Any
 
 import mujoco
+import numpy as np
 
 from rrbot_workshop.description.info import HardwareInfo
 from rrbot_workshop.exceptions import DescriptionError
@@ -47,6 +49,7 @@ from rrbot_workshop.hardware.mujoco_io import (
     CommandWrite,
     GpioMirror,
     StateRead,
+    command_write_steps,
     plan_command_writes,
     plan_gpio_mirrors,
     plan_state_reads,
@@ -58,6 +61,9 @@ from rrbot_workshop.hardware_interface.handles import ADOPTIONS
 from rrbot_workshop.middleware.lifecycle import CallbackReturn, ReturnType, State
 
 __all__ = ["MujocoSystem"]
+
+
+_OK = ReturnType.OK  # looked up once: reading a member off an enum class takes ~70 ns, read and write run every cycle
 
 
 class MujocoSystem(SystemInterface):
@@ -73,7 +79,10 @@ class MujocoSystem(SystemInterface):
         self._timestep: float = 0.001
         self._read_plan: list[StateRead] = []
         self._read_plan_adoptions = -1
+        self._ctrl: np.ndarray = np.zeros(0)  # data.ctrl, one view kept (each attribute access makes a new one)
         self._write_plan: list[CommandWrite] = []
+        self._write_steps: list[tuple[list[Any], int, int]] = []  # the write plan as (store, slot, actuator)
+        self._write_steps_adoptions = -1
         self._gpio_mirrors: list[GpioMirror] = []
         #: Why the last ``prepare_command_mode_switch`` returned ERROR, or ``""``.
         self.mode_switch_rejection: str = ""
@@ -107,6 +116,7 @@ class MujocoSystem(SystemInterface):
             self.logger.warning("MujocoSystem '%s': mimic joints are not simulated; they stay passive", info.name)
         self._timestep = request.timestep
         self._data = mujoco.MjData(self._sim.model)
+        self._ctrl = self._data.ctrl
         self._modes = {joint.name: None for joint in info.joints}
         return CallbackReturn.SUCCESS
 
@@ -214,6 +224,7 @@ class MujocoSystem(SystemInterface):
         self._sim.disable_all()
         self._data.ctrl[:] = 0.0
         self._write_plan = []
+        self._write_steps = []
         if forget:
             self._modes = dict.fromkeys(self._modes)
 
@@ -228,6 +239,8 @@ class MujocoSystem(SystemInterface):
     def _plan_write(self) -> None:
         assert self._sim is not None
         self._write_plan = plan_command_writes(self._modes, self._sim, self._command_handles)
+        self._write_steps = command_write_steps(self._write_plan)
+        self._write_steps_adoptions = ADOPTIONS.value
 
     def read(self, time: float, period: float) -> ReturnType:
         """Advance physics by ``period`` (whole time steps, remainder carried over), then fill the states.
@@ -265,13 +278,16 @@ class MujocoSystem(SystemInterface):
             time: Controller manager time in [s].
             period: Time since the last write in [s].
         """
-        assert self._data is not None
-        ctrl = self._data.ctrl
-        for get_value, actuator in self._write_plan:
-            value = get_value()
-            if math.isfinite(value):
+        assert self._data is not None, "on_init has not succeeded"
+        if self._write_steps_adoptions != ADOPTIONS.value:  # the command handles moved since the plan was made
+            self._write_steps = command_write_steps(self._write_plan)
+            self._write_steps_adoptions = ADOPTIONS.value
+        ctrl, isfinite = self._ctrl, math.isfinite
+        for store, slot, actuator in self._write_steps:  # the commands' flat lists and indices
+            value = store[slot]
+            if isfinite(value):
                 ctrl[actuator] = value
-        return ReturnType.OK
+        return _OK
 
     # ----------------------------------------------------------------- simulation access
     def reset(self, positions: Mapping[str, float] | None = None, velocities: Mapping[str, float] | None = None) -> None:

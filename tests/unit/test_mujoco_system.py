@@ -325,3 +325,15 @@ def test_deactivate_turns_the_motors_off_and_activate_holds_again() -> None:
     assert system.get_command("joint1/position") == pytest.approx(moved)
     _run(system, 1.0)
     assert system.get_state("joint1/position") == pytest.approx(moved, abs=0.02)
+
+
+# --------------------------------------------------------------------------- prepared reads and writes
+@pytest.mark.parametrize("command", [math.nan, math.inf, -math.inf])
+def test_a_non_finite_command_keeps_the_last_control(command: float) -> None:
+    system = _system()
+    _switch(system, ["joint1/position"])
+    system.set_command("joint1/position", 0.3)
+    system.write(0.0, 0.01)
+    system.set_command("joint1/position", command)
+    system.write(0.0, 0.01)
+    assert system.get_data().ctrl[system.simulation.joints["joint1"].actuators["position"]] == 0.3
