@@ -36,7 +36,7 @@ other GPIO states, inputs with nothing wired to them, read their ``initial_value
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from typing import Any
 
 import mujoco
@@ -48,7 +48,6 @@ from rrbot_workshop.hardware.mujoco_config import simulation_request
 from rrbot_workshop.hardware.mujoco_io import (
     CommandWrite,
     GpioMirror,
-    StateRead,
     command_write_steps,
     plan_command_writes,
     plan_gpio_mirrors,
@@ -66,6 +65,10 @@ __all__ = ["MujocoSystem"]
 _OK = ReturnType.OK  # looked up once: reading a member off an enum class takes ~70 ns, read and write run every cycle
 
 
+def _nothing() -> None:
+    """The read plan before configure: no states to fill."""
+
+
 class MujocoSystem(SystemInterface):
     """A ``<ros2_control>`` system simulated in MuJoCo. Plugin name ``rrbot_workshop/MujocoSystem``."""
 
@@ -77,9 +80,10 @@ class MujocoSystem(SystemInterface):
         self._pending_time: float = 0.0
         self._powered: bool = False
         self._timestep: float = 0.001
-        self._read_plan: list[StateRead] = []
-        self._read_plan_adoptions = -1
+        self._model: mujoco.MjModel | None = None  # self._sim.model, for read
         self._ctrl: np.ndarray = np.zeros(0)  # data.ctrl, one view kept (each attribute access makes a new one)
+        self._read_plan: Callable[[], None] = _nothing  # fills the joint and sensor states (see mujoco_io)
+        self._read_plan_adoptions = -1
         self._write_plan: list[CommandWrite] = []
         self._write_steps: list[tuple[list[Any], int, int]] = []  # the write plan as (store, slot, actuator)
         self._write_steps_adoptions = -1
@@ -115,7 +119,8 @@ class MujocoSystem(SystemInterface):
         if info.mimic_joints:
             self.logger.warning("MujocoSystem '%s': mimic joints are not simulated; they stay passive", info.name)
         self._timestep = request.timestep
-        self._data = mujoco.MjData(self._sim.model)
+        self._model = self._sim.model
+        self._data = mujoco.MjData(self._model)
         self._ctrl = self._data.ctrl
         self._modes = {joint.name: None for joint in info.joints}
         return CallbackReturn.SUCCESS
@@ -249,27 +254,31 @@ class MujocoSystem(SystemInterface):
             time: Controller manager time in [s] (unused: the simulation counts its own steps).
             period: Time since the last read in [s].
         """
-        assert self._sim is not None and self._data is not None
+        data = self._data
+        assert data is not None, "on_init has not succeeded"
         if period > 0.0:  # also false for NaN
-            self._pending_time += period
-            steps = int(self._pending_time / self._timestep + 1e-9)
+            pending = self._pending_time + period
+            steps = int(pending / self._timestep + 1e-9)
             if steps > 0:
-                mujoco.mj_step(self._sim.model, self._data, nstep=steps)
-                self._pending_time -= steps * self._timestep
+                mujoco.mj_step(self._model, data, steps)  # nstep passed by position: cheaper than by keyword
+                pending -= steps * self._timestep
+            self._pending_time = pending
         self._publish_states()
-        return ReturnType.OK
+        return _OK
 
     def _publish_states(self) -> None:
         if self._read_plan_adoptions != ADOPTIONS.value:  # the handles moved since the plan was made
             self._plan_read()
-        for array, reads in self._read_plan:
-            values = array.tolist()  # Python floats, one conversion per array
-            for store, slot, index, sign in reads:  # the component's own handles, set in their flat lists
-                store[slot] = sign * values[index] + 0.0  # + 0.0 turns -0.0 into 0.0
-        for get_command, set_state in self._gpio_mirrors:
-            value = get_command()
-            if not (isinstance(value, float) and math.isnan(value)):
-                set_state(value)
+        self._read_plan()
+        if self._gpio_mirrors:
+            self._mirror_gpios()
+
+    def _mirror_gpios(self) -> None:
+        """Copy each mirrored GPIO command into its state, except NaN (an unset command)."""
+        for command_store, command_slot, state_store, state_slot in self._gpio_mirrors:
+            value = command_store[command_slot]
+            if not isinstance(value, float) or value == value:  # a NaN command leaves the state as it is
+                state_store[state_slot] = value
 
     def write(self, time: float, period: float) -> ReturnType:
         """Copy the commands of the active modes into ``data.ctrl``; non-finite commands keep the last control.
