@@ -31,22 +31,26 @@ def _handles(count: int) -> list[StateInterface]:
     return [StateInterface(f"s{k}", "value", initial_value=math.nan) for k in range(count)]
 
 
-def _sources(arrays: list[np.ndarray], handles: list[StateInterface]) -> list[StateSource]:
-    """Every element of ``arrays`` read by one handle, signs alternating per element."""
-    pairs = [(array, index) for array in arrays for index in range(array.size)]
-    return [(array, index, -1.0 if k % 2 else 1.0, handle)
-            for k, ((array, index), handle) in enumerate(zip(pairs, handles, strict=True))]
+def _sources(arrays: list[np.ndarray], handles: list[StateInterface], signs: str) -> list[StateSource]:
+    """Every element of ``arrays`` read by one handle; signs alternating per element, per array, or all kept."""
+    pairs = [(n, array, index) for n, array in enumerate(arrays) for index in range(array.size)]
+    sign = {"per-element": lambda k, n: -1.0 if k % 2 else 1.0, "per-array": lambda k, n: -1.0 if n % 2 else 1.0,
+            "all-kept": lambda k, n: 1.0}[signs]
+    return [(array, index, sign(k, n), handle)
+            for k, ((n, array, index), handle) in enumerate(zip(pairs, handles, strict=True))]
 
 
+@pytest.mark.parametrize("signs", ["per-element", "per-array", "all-kept"])
 @pytest.mark.parametrize("shared", [True, False], ids=["one-view", "copies"])
 @pytest.mark.parametrize("flat", [True, False], ids=["one-flat-list", "own-lists"])
-def test_state_reader_matches_the_python_formula_bit_for_bit(shared: bool, flat: bool) -> None:
+def test_state_reader_matches_the_python_formula_bit_for_bit(shared: bool, flat: bool, signs: str) -> None:
+    """Slots set one by one, in slices, or all in one slice (one flat list, every sign kept) give the same values."""
     buffer = np.zeros(64)
     arrays = [buffer[3:3 + 7], buffer[20:20 + 5], buffer[40:40 + 12]]
     handles = _handles(24)
     if flat:
         adopt(handles[::-1], ["x", "y"])  # one flat list, slots in reverse order after two foreign values
-    sources = _sources(arrays, handles)
+    sources = _sources(arrays, handles, signs)
     read = state_reader(sources, buffer.nbytes if shared else 0)
     for shift in range(len(_SPECIAL)):  # every value under both signs
         for array in arrays:
