@@ -36,9 +36,11 @@ other GPIO states, inputs with nothing wired to them, read their ``initial_value
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
+from typing import Any
 
 import mujoco
+import numpy as np
 
 from rrbot_workshop.description.info import HardwareInfo
 from rrbot_workshop.exceptions import DescriptionError
@@ -46,7 +48,7 @@ from rrbot_workshop.hardware.mujoco_config import simulation_request
 from rrbot_workshop.hardware.mujoco_io import (
     CommandWrite,
     GpioMirror,
-    StateRead,
+    command_write_steps,
     plan_command_writes,
     plan_gpio_mirrors,
     plan_state_reads,
@@ -60,6 +62,13 @@ from rrbot_workshop.middleware.lifecycle import CallbackReturn, ReturnType, Stat
 __all__ = ["MujocoSystem"]
 
 
+_OK = ReturnType.OK  # looked up once: reading a member off an enum class takes ~70 ns, read and write run every cycle
+
+
+def _nothing() -> None:
+    """The read plan before configure: no states to fill."""
+
+
 class MujocoSystem(SystemInterface):
     """A ``<ros2_control>`` system simulated in MuJoCo. Plugin name ``rrbot_workshop/MujocoSystem``."""
 
@@ -71,9 +80,13 @@ class MujocoSystem(SystemInterface):
         self._pending_time: float = 0.0
         self._powered: bool = False
         self._timestep: float = 0.001
-        self._read_plan: list[StateRead] = []
+        self._model: mujoco.MjModel | None = None  # self._sim.model, for read
+        self._ctrl: np.ndarray = np.zeros(0)  # data.ctrl, one view kept (each attribute access makes a new one)
+        self._read_plan: Callable[[], None] = _nothing  # fills the joint and sensor states (see mujoco_io)
         self._read_plan_adoptions = -1
         self._write_plan: list[CommandWrite] = []
+        self._write_steps: list[tuple[list[Any], int, int]] = []  # the write plan as (store, slot, actuator)
+        self._write_steps_adoptions = -1
         self._gpio_mirrors: list[GpioMirror] = []
         #: Why the last ``prepare_command_mode_switch`` returned ERROR, or ``""``.
         self.mode_switch_rejection: str = ""
@@ -106,7 +119,9 @@ class MujocoSystem(SystemInterface):
         if info.mimic_joints:
             self.logger.warning("MujocoSystem '%s': mimic joints are not simulated; they stay passive", info.name)
         self._timestep = request.timestep
-        self._data = mujoco.MjData(self._sim.model)
+        self._model = self._sim.model
+        self._data = mujoco.MjData(self._model)
+        self._ctrl = self._data.ctrl
         self._modes = {joint.name: None for joint in info.joints}
         return CallbackReturn.SUCCESS
 
@@ -214,6 +229,7 @@ class MujocoSystem(SystemInterface):
         self._sim.disable_all()
         self._data.ctrl[:] = 0.0
         self._write_plan = []
+        self._write_steps = []
         if forget:
             self._modes = dict.fromkeys(self._modes)
 
@@ -228,6 +244,8 @@ class MujocoSystem(SystemInterface):
     def _plan_write(self) -> None:
         assert self._sim is not None
         self._write_plan = plan_command_writes(self._modes, self._sim, self._command_handles)
+        self._write_steps = command_write_steps(self._write_plan)
+        self._write_steps_adoptions = ADOPTIONS.value
 
     def read(self, time: float, period: float) -> ReturnType:
         """Advance physics by ``period`` (whole time steps, remainder carried over), then fill the states.
@@ -236,27 +254,31 @@ class MujocoSystem(SystemInterface):
             time: Controller manager time in [s] (unused: the simulation counts its own steps).
             period: Time since the last read in [s].
         """
-        assert self._sim is not None and self._data is not None
+        data = self._data
+        assert data is not None, "on_init has not succeeded"
         if period > 0.0:  # also false for NaN
-            self._pending_time += period
-            steps = int(self._pending_time / self._timestep + 1e-9)
+            pending = self._pending_time + period
+            steps = int(pending / self._timestep + 1e-9)
             if steps > 0:
-                mujoco.mj_step(self._sim.model, self._data, nstep=steps)
-                self._pending_time -= steps * self._timestep
+                mujoco.mj_step(self._model, data, steps)  # nstep passed by position: cheaper than by keyword
+                pending -= steps * self._timestep
+            self._pending_time = pending
         self._publish_states()
-        return ReturnType.OK
+        return _OK
 
     def _publish_states(self) -> None:
         if self._read_plan_adoptions != ADOPTIONS.value:  # the handles moved since the plan was made
             self._plan_read()
-        for array, reads in self._read_plan:
-            values = array.tolist()  # Python floats, one conversion per array
-            for store, slot, index, sign in reads:  # the component's own handles, set in their flat lists
-                store[slot] = sign * values[index] + 0.0  # + 0.0 turns -0.0 into 0.0
-        for get_command, set_state in self._gpio_mirrors:
-            value = get_command()
-            if not (isinstance(value, float) and math.isnan(value)):
-                set_state(value)
+        self._read_plan()
+        if self._gpio_mirrors:
+            self._mirror_gpios()
+
+    def _mirror_gpios(self) -> None:
+        """Copy each mirrored GPIO command into its state, except NaN (an unset command)."""
+        for command_store, command_slot, state_store, state_slot in self._gpio_mirrors:
+            value = command_store[command_slot]
+            if not isinstance(value, float) or value == value:  # a NaN command leaves the state as it is
+                state_store[state_slot] = value
 
     def write(self, time: float, period: float) -> ReturnType:
         """Copy the commands of the active modes into ``data.ctrl``; non-finite commands keep the last control.
@@ -265,13 +287,16 @@ class MujocoSystem(SystemInterface):
             time: Controller manager time in [s].
             period: Time since the last write in [s].
         """
-        assert self._data is not None
-        ctrl = self._data.ctrl
-        for get_value, actuator in self._write_plan:
-            value = get_value()
-            if math.isfinite(value):
+        assert self._data is not None, "on_init has not succeeded"
+        if self._write_steps_adoptions != ADOPTIONS.value:  # the command handles moved since the plan was made
+            self._write_steps = command_write_steps(self._write_plan)
+            self._write_steps_adoptions = ADOPTIONS.value
+        ctrl, isfinite = self._ctrl, math.isfinite
+        for store, slot, actuator in self._write_steps:  # the commands' flat lists and indices
+            value = store[slot]
+            if isfinite(value):
                 ctrl[actuator] = value
-        return ReturnType.OK
+        return _OK
 
     # ----------------------------------------------------------------- simulation access
     def reset(self, positions: Mapping[str, float] | None = None, velocities: Mapping[str, float] | None = None) -> None:

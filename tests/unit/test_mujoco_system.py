@@ -5,10 +5,12 @@ from __future__ import annotations
 import logging
 import math
 
+import numpy as np
 import pytest
 
 from rrbot_workshop.description.info import ComponentInfo, HardwareInfo, InterfaceInfo
 from rrbot_workshop.hardware.mujoco_system import MujocoSystem
+from rrbot_workshop.hardware_interface.handles import adopt
 from rrbot_workshop.middleware.lifecycle import CallbackReturn, ReturnType, State
 
 _INERTIA = '<inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/>'
@@ -325,3 +327,54 @@ def test_deactivate_turns_the_motors_off_and_activate_holds_again() -> None:
     assert system.get_command("joint1/position") == pytest.approx(moved)
     _run(system, 1.0)
     assert system.get_state("joint1/position") == pytest.approx(moved, abs=0.02)
+
+
+# --------------------------------------------------------------------------- prepared reads and writes
+def test_reads_writes_and_mirrors_follow_the_handles_when_they_move() -> None:
+    """Once the resource manager adopts the handles into its flat list, states, commands and GPIOs still flow."""
+    system = _system()
+    _switch(system, ["joint1/position"])
+    _run(system, 0.2)
+    store: list[object] = []
+    adopt([*system._state_handles.values(), *system._command_handles.values()], store)  # noqa: SLF001
+    system.set_command("joint1/position", 0.4)
+    system.set_command("flange_gpios/digital_out_1", 1.0)
+    _run(system, 1.0)
+    assert system.get_state("joint1/position") == pytest.approx(0.4, abs=0.01)
+    assert system.get_state("joint1/position") == float(system.get_data().qpos[0]) + 0.0
+    fz = system.simulation.force_torque_sensors["tcp_fts_sensor"].force_adr + 2
+    assert system.get_state("tcp_fts_sensor/fz") == -float(system.get_data().sensordata[fz]) + 0.0
+    assert system.get_state("flange_gpios/digital_out_1") == 1.0
+
+
+@pytest.mark.parametrize("command", [math.nan, math.inf, -math.inf])
+def test_a_non_finite_command_keeps_the_last_control(command: float) -> None:
+    system = _system()
+    _switch(system, ["joint1/position"])
+    system.set_command("joint1/position", 0.3)
+    system.write(0.0, 0.01)
+    system.set_command("joint1/position", command)
+    system.write(0.0, 0.01)
+    assert system.get_data().ctrl[system.simulation.joints["joint1"].actuators["position"]] == 0.3
+
+
+@pytest.mark.parametrize(
+    ("command", "mirrored"),
+    [(True, True), (3, True), (-0.5, True), (math.nan, False), (np.float64("nan"), False), (np.float32("nan"), True)],
+)
+def test_gpio_states_mirror_any_command_but_a_float_nan(command: object, mirrored: bool) -> None:
+    """Only a NaN that is a Python float (or subclass) counts as "no command"; anything else is copied as it is."""
+    system = _system()
+    system.set_state("flange_gpios/digital_out_1", 7.0)
+    system.set_command("flange_gpios/digital_out_1", command)
+    system.read(0.0, 0.01)
+    value = system.get_state("flange_gpios/digital_out_1")
+    assert (value is command) if mirrored else value == 7.0
+
+
+def test_read_and_write_before_init_fail_as_before() -> None:
+    system = MujocoSystem()
+    with pytest.raises(AssertionError):
+        system.read(0.0, 0.01)
+    with pytest.raises(AssertionError):
+        system.write(0.0, 0.01)
