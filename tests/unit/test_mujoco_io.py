@@ -1,8 +1,7 @@
 """Tests of hardware.mujoco_io: the prepared state reads of MujocoSystem give what the plain formula gives.
 
-The state reader computes ``sign * value + 0.0`` as one numpy subtraction over one gathered array; these tests
-compare its results bit for bit with the Python expression, for signed zeros, infinities and NaNs, on both of its
-paths (one view over a shared buffer, or a copy of each array) and for handles in one flat list or in several.
+The state reader sets ``sign * value + 0.0`` in each handle's slot; these tests compare its results bit for bit with the
+Python expression, for signed zeros, infinities and NaNs, for handles in one flat list or in several.
 """
 
 from __future__ import annotations
@@ -10,11 +9,10 @@ from __future__ import annotations
 import math
 import struct
 
-import mujoco
 import numpy as np
 import pytest
 
-from rrbot_workshop.hardware.mujoco_io import StateSource, _shared_view, state_reader
+from rrbot_workshop.hardware.mujoco_io import StateSource, state_reader
 from rrbot_workshop.hardware_interface.handles import StateInterface, adopt
 
 # Values whose result could tell two computations apart: signed zeros, infinities, NaNs with sign and payload.
@@ -41,9 +39,8 @@ def _sources(arrays: list[np.ndarray], handles: list[StateInterface], signs: str
 
 
 @pytest.mark.parametrize("signs", ["per-element", "per-array", "all-kept"])
-@pytest.mark.parametrize("shared", [True, False], ids=["one-view", "copies"])
 @pytest.mark.parametrize("flat", [True, False], ids=["one-flat-list", "own-lists"])
-def test_state_reader_matches_the_python_formula_bit_for_bit(shared: bool, flat: bool, signs: str) -> None:
+def test_state_reader_matches_the_python_formula_bit_for_bit(flat: bool, signs: str) -> None:
     """Slots set one by one, in slices, or all in one slice (one flat list, every sign kept) give the same values."""
     buffer = np.zeros(64)
     arrays = [buffer[3:3 + 7], buffer[20:20 + 5], buffer[40:40 + 12]]
@@ -51,7 +48,7 @@ def test_state_reader_matches_the_python_formula_bit_for_bit(shared: bool, flat:
     if flat:
         adopt(handles[::-1], ["x", "y"])  # one flat list, slots in reverse order after two foreign values
     sources = _sources(arrays, handles, signs)
-    read = state_reader(sources, buffer.nbytes if shared else 0)
+    read = state_reader(sources)
     for shift in range(len(_SPECIAL)):  # every value under both signs
         for array in arrays:
             array[:] = np.roll(np.resize(np.array(_SPECIAL), array.size), shift)
@@ -68,23 +65,11 @@ def test_state_reader_leaves_other_slots_alone_and_checks_its_sources() -> None:
     store: list[object] = ["keep"]
     adopt(handles, store)
     store.append("also kept")
-    state_reader([(data, 5, 1.0, handles[0]), (data, 0, -1.0, handles[2])], data.nbytes)()
+    state_reader([(data, 5, 1.0, handles[0]), (data, 0, -1.0, handles[2])])()
     assert (store[0], store[1], store[3], store[4]) == ("keep", 5.0, 0.0, "also kept")
     assert math.isnan(store[2]) and _bits(store[3]) == 0  # type: ignore[arg-type]  # -(0.0) + 0.0 is +0.0
     with pytest.raises(IndexError, match="element 6"):
-        state_reader([(data, 6, 1.0, handles[0])], data.nbytes)
+        state_reader([(data, 6, 1.0, handles[0])])
     with pytest.raises(ValueError, match="sign"):
-        state_reader([(data, 0, 2.0, handles[0])], data.nbytes)
-    state_reader([], 0)()  # nothing to read
-
-
-def test_mjdata_arrays_share_one_view() -> None:
-    """The arrays MujocoSystem reads lie in MjData's one buffer, so its reader gathers them with a single take."""
-    model = mujoco.MjModel.from_xml_string('<mujoco><worldbody><body><joint/><geom size="0.1"/><site name="s"/>'
-                                           '</body></worldbody><sensor><force site="s"/></sensor></mujoco>')
-    data = mujoco.MjData(model)
-    arrays = [data.qpos, data.qvel, data.qacc, data.qfrc_actuator, data.sensordata]
-    view, offsets = _shared_view(arrays, data.nbuffer)
-    assert view is not None and not view.flags.writeable
-    data.qacc[0], data.sensordata[2] = 3.5, -7.25
-    assert view[offsets[id(arrays[2])]] == 3.5 and view[offsets[id(arrays[4])] + 2] == -7.25
+        state_reader([(data, 0, 2.0, handles[0])])
+    state_reader([])()  # nothing to read
