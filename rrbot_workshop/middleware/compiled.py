@@ -32,15 +32,15 @@ def compile_function(source: str, kind: str, name: str, namespace: dict[str, Any
         name: The function's name in ``source``.
         namespace: The function's globals: the objects its source names (it is extended, not copied).
     """
-    exec(_code(source, kind), namespace)  # noqa: S102 - our own template, see Args
+    code = _code(source, kind)
+    # (again on every call: someone may have cleared the cache since; mtime None keeps it through checkcache)
+    linecache.cache[code.co_filename] = (len(source), None, source.splitlines(keepends=True), code.co_filename)
+    exec(code, namespace)  # noqa: S102 - our own template, see Args
     function: Callable[..., Any] = namespace[name]
     return function
 
 
 @functools.lru_cache(maxsize=256)
 def _code(source: str, kind: str) -> CodeType:
-    """The code of ``source``, with its lines in ``linecache``. Plans come back (a switch and its reverse), and so
-    does their code."""
-    filename = f"{FILENAME_PREFIX}{kind} {zlib.crc32(source.encode()):08x}>"
-    linecache.cache[filename] = (len(source), None, source.splitlines(keepends=True), filename)
-    return compile(source, filename, "exec")
+    """The code of ``source``. Plans come back (a switch and its reverse), and so does their code."""
+    return compile(source, f"{FILENAME_PREFIX}{kind} {zlib.crc32(source.encode()):08x}>", "exec")

@@ -297,3 +297,16 @@ def test_the_hardware_cycle_is_compiled_per_component_and_a_traceback_shows_its_
     assert "File \"<rrbot_workshop hardware write" in caplog.text and "result = component._impl.write(time, period)" in caplog.text
     system.spin_cycles(1)  # the component is out: the plan made again has no block for it
     assert "# rrbot" not in rm.cycle.source
+
+
+def test_a_plan_compiled_after_the_line_cache_was_cleared_still_shows_its_lines(system: rw.System) -> None:
+    import linecache
+
+    cm = system.controller_manager
+    cm.switch_controllers(deactivate=[FWD], strictness="strict")
+    system.spin_cycles(1)
+    linecache.clearcache()  # as a tool or a notebook extension may do
+    cm.switch_controllers(activate=[FWD], strictness="strict")  # back to a plan whose code was compiled before
+    system.spin_cycles(1)
+    filename = cm._loop.update.__code__.co_filename  # noqa: SLF001
+    assert linecache.getline(filename, 1) == "def update(time, period):\n"
