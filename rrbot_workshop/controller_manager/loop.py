@@ -128,14 +128,16 @@ class ControllerLoop:
                  "        return stale(time, period)",
                  "    failed = None"]
         for k, (name, spec, ctrl, slow) in enumerate(plan):
+            # names and numbers reach the source only as names of the namespace (and a name's repr in a comment):
+            # a controller called "x\nimport os" stays a string
             namespace.update({f"n{k}": name, f"s{k}": spec, f"c{k}": ctrl, f"st{k}": spec.statistics,
-                              f"p{k}": spec.statistics.pending})
+                              f"p{k}": spec.statistics.pending, f"r{k}": slow})
             if slow:  # Jazzy: a slower controller's first update gets its own nominal period, 1/rate
-                due = f"ctrl._state is ACTIVE and rate_due(s{k}.last_update_time, time, {slow}, loop.update_rate)"
-                own_period = f"1.0 / {slow} if last is None else time - last"
+                due = f"ctrl._state is ACTIVE and rate_due(s{k}.last_update_time, time, r{k}, loop.update_rate)"
+                own_period = f"1.0 / r{k} if last is None else time - last"
             else:
                 due, own_period = "ctrl._state is ACTIVE", "period"
-            lines.append(f"    # {name}" + (f" at {slow} Hz" if slow else ""))
+            lines.append(f"    # {name!r}" + (f" at {slow!r} Hz" if slow else ""))
             lines.extend(_BLOCK.format(k=k, due=due, period=own_period).strip("\n").splitlines())
         lines += ["    if failed:", "        on_failed(failed)", ""]
         source = "\n".join(lines)

@@ -52,7 +52,7 @@ _BLOCK = """
 _SLOW_BLOCK = """
     entry = {which}_entry{k}
     last = entry.last_{which}
-    if rate_due(last, time, {slow}, cycle.update_rate):
+    if rate_due(last, time, {which}_rate{k}, cycle.update_rate):
         entry.last_{which} = time
         try:
             result = {which}_component{k}.{which}(time, period if last is None else time - last)
@@ -152,10 +152,12 @@ class HardwareCycle:
                      f"        return stale_{which}(time, period)",
                      "    status = None"]
             for k, (entry, slow) in enumerate(plan):
+                # the component reaches the source only as names of the namespace (its name's repr in a comment)
                 namespace[f"{which}_entry{k}"], namespace[f"{which}_component{k}"] = entry, entry.component
+                namespace[f"{which}_rate{k}"] = slow
                 block = _SLOW_BLOCK if slow else _BLOCK
-                lines.append(f"    # {entry.info.name}" + (f" at {slow} Hz" if slow else ""))
-                lines.extend(block.format(which=which, k=k, slow=slow).strip("\n").splitlines())
+                lines.append(f"    # {entry.info.name!r}" + (f" at {slow!r} Hz" if slow else ""))
+                lines.extend(block.format(which=which, k=k).strip("\n").splitlines())
             lines += ["    return status", ""]
             sources.append("\n".join(lines))
         self.source = "\n".join(sources)

@@ -227,11 +227,11 @@ def test_the_mock_read_plan_follows_its_handles_when_they_move() -> None:
 def test_the_loop_is_compiled_into_one_block_per_active_controller_and_again_after_a_switch(system: rw.System) -> None:
     cm = system.controller_manager
     source = cm._loop.source  # noqa: SLF001 - the compiled loop is the subject here
-    assert source.index(f"# {JSB}") < source.index(f"# {FWD}")  # chain order
+    assert source.index(f"# '{JSB}'") < source.index(f"# '{FWD}'")  # chain order
     assert source.count("result = ctrl.update(time, ctrl_period)") == 2
     cm.switch_controllers(deactivate=[FWD], strictness="strict")
     system.spin_cycles(1)
-    assert f"# {FWD}" not in cm._loop.source  # noqa: SLF001
+    assert f"# '{FWD}'" not in cm._loop.source  # noqa: SLF001
     assert cm._loop.source.count("result = ctrl.update(time, ctrl_period)") == 1  # noqa: SLF001
 
 
@@ -241,7 +241,7 @@ def test_a_slower_controller_gets_the_rate_rule_in_the_compiled_loop(system: rw.
     cm.get_controller(JSB)._update_rate = 20  # noqa: SLF001 - as if configured with update_rate: 20 (manager: 100 Hz)
     cm.switch_controllers(activate=[JSB], strictness="strict")
     system.spin_cycles(50)
-    assert f"# {JSB} at 20 Hz" in cm._loop.source  # noqa: SLF001
+    assert f"# '{JSB}' at 20 Hz" in cm._loop.source  # noqa: SLF001
     stats = cm.controller_statistics()
     assert stats[JSB].period.count == 10 and stats[FWD].period.count == 52  # FWD: also the fixture's two cycles
     assert stats[JSB].period.minimum == pytest.approx(0.05)  # the first period is 1/rate, then the time between
@@ -285,7 +285,7 @@ def test_the_hardware_cycle_is_compiled_per_component_and_a_traceback_shows_its_
     rm = system.resource_manager
     source = rm.cycle.source
     assert "def read(time, period):" in source and "def write(time, period):" in source
-    assert source.count("# rrbot\n") == 2  # one block in read, one in write
+    assert source.count("# 'rrbot'\n") == 2  # one block in read, one in write
     impl = rm.get_component("rrbot")._impl  # noqa: SLF001
 
     def broken(time: float, period: float) -> ReturnType:
@@ -296,7 +296,7 @@ def test_the_hardware_cycle_is_compiled_per_component_and_a_traceback_shows_its_
         system.spin_cycles(1)
     assert "File \"<rrbot_workshop hardware write" in caplog.text and "result = component._impl.write(time, period)" in caplog.text
     system.spin_cycles(1)  # the component is out: the plan made again has no block for it
-    assert "# rrbot" not in rm.cycle.source
+    assert "# 'rrbot'" not in rm.cycle.source
 
 
 def test_a_plan_compiled_after_the_line_cache_was_cleared_still_shows_its_lines(system: rw.System) -> None:
@@ -310,3 +310,13 @@ def test_a_plan_compiled_after_the_line_cache_was_cleared_still_shows_its_lines(
     system.spin_cycles(1)
     filename = cm._loop.update.__code__.co_filename  # noqa: SLF001
     assert linecache.getline(filename, 1) == "def update(time, period):\n"
+
+
+def test_a_controller_name_is_never_code_in_the_compiled_loop(system: rw.System) -> None:
+    cm = system.controller_manager
+    name = "odd\nraise SystemExit('a name became code')"
+    cm.load_controller(name, "joint_state_broadcaster/JointStateBroadcaster")
+    cm.configure_controller(name)
+    assert cm.switch_controllers(activate=[name], strictness="strict")
+    system.spin_cycles(3)  # the name is a repr in a comment and a string in the namespace: nothing raises
+    assert repr(name) in cm._loop.source and cm.get_controller(name).get_lifecycle_state().label == "active"  # noqa: SLF001
