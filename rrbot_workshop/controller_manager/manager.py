@@ -50,7 +50,6 @@ from rrbot_workshop.controller_manager.spec import (
 from rrbot_workshop.controller_manager.statistics import ControllerStatistics
 from rrbot_workshop.controller_manager.switch import Switcher
 from rrbot_workshop.exceptions import ControllerError, HardwareError, LifecycleError
-from rrbot_workshop.hardware_interface.resource_cycle import HardwareReadWriteStatus
 from rrbot_workshop.hardware_interface.resource_manager import ResourceManager
 from rrbot_workshop.middleware.clock import Clock, SimClock
 from rrbot_workshop.middleware.lifecycle import State
@@ -275,7 +274,8 @@ class ControllerManager:
         """Read all hardware; controllers using failed hardware are deactivated."""
         status = self._hardware.read(time, period)
         if status is not None:
-            self._read_failed(status)
+            self._failures.hardware_failed(status.failed_hardware_names, "read")
+            self.activity.check()
 
     def write(self, time: float, period: float) -> None:
         """Write all hardware (commands limited first if ``enforce_command_limits``); controllers using failed
@@ -284,15 +284,9 @@ class ControllerManager:
             self.resource_manager.enforce_command_limits(period)
         status = self._hardware.write(time, period)
         if status is not None:
-            self._write_failed(status)
-
-    def _read_failed(self, status: HardwareReadWriteStatus) -> None:
-        self._failures.hardware_failed(status.failed_hardware_names, "read")
-        self.activity.check()
-
-    def _write_failed(self, status: HardwareReadWriteStatus) -> None:
-        self._failures.write_failed(status.failed_hardware_names, self.deactivate_controllers_on_hardware_self_deactivate)
-        self.activity.check()
+            self._failures.write_failed(status.failed_hardware_names,
+                                        self.deactivate_controllers_on_hardware_self_deactivate)
+            self.activity.check()
 
     def update_controllers(self, time: float, period: float) -> None:
         """Update each active controller that is due, in chain order.
@@ -313,18 +307,10 @@ class ControllerManager:
             time: Time of this cycle in [s].
             period: Time since the previous cycle in [s].
         """
-        # read() and write() written out here: the cycle is the one place where a call level shows
-        hardware = self._hardware
         self.bus.deliver()
-        status = hardware.read(time, period)
-        if status is not None:
-            self._read_failed(status)
+        self.read(time, period)
         self._loop.update(time, period)
-        if self.enforce_command_limits:
-            self.resource_manager.enforce_command_limits(period)
-        status = hardware.write(time, period)
-        if status is not None:
-            self._write_failed(status)
+        self.write(time, period)
         self._hooks.run(time, period)
 
     def chain_group(self, names: Iterable[str]) -> list[str]:
