@@ -68,7 +68,7 @@ class ControllerLoop:
     or the chain graph changes its order, the plan is made again and compiled into one Python function, :attr:`update`,
     with one block per active controller (:attr:`source` shows it). A cycle still checks that each controller is
     active before it updates it, calls ``update`` through the instance (a controller whose method is replaced at run
-    time is called as it is now), records the statistics (``ControllerStatistics.record``, written out), and hands the
+    time is called as it is now), records the statistics (two floats on ``ControllerStatistics.pending``), and hands the
     controllers that failed (an exception or a result other than OK) to ``on_failed``, the manager's slow path.
 
     Compiling spares each cycle the loop over the plan and its bookkeeping: about half a microsecond per cycle with
@@ -121,7 +121,7 @@ class ControllerLoop:
             "ACTIVE": State.ACTIVE, "OK": ReturnType.OK, "TRANSITIONS": TRANSITIONS, "BUILT_AT": TRANSITIONS.value,
             "chains": self._chains, "VERSION": self._chains.version, "loop": self, "clock": perf_counter,
             "rate_due": rate_due, "raised": _raised, "not_ok": _not_ok, "on_failed": self._on_failed,
-            "stale": self._compile_and_update, "FOLD_AT": 2 * ControllerStatistics.FOLD_EVERY,
+            "stale": self._compile_and_update, "FOLD_AT": ControllerStatistics.FOLD_AT,
         }
         lines = ["def update(time, period):",
                  "    if TRANSITIONS.value != BUILT_AT or chains.version != VERSION:  # the plan is out of date",

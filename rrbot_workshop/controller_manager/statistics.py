@@ -51,16 +51,18 @@ class RunningStats:
 class ControllerStatistics:
     """The timing of one controller's updates since its last activation.
 
-    The cycle only appends each update's two figures to :attr:`pending` (:meth:`record`, written out in the compiled
-    loop: two floats on a list, the cheapest record Python has, and nothing the garbage collector has to look at); they
-    are folded into the running figures, in the order they came, when someone reads :attr:`period` or
-    :attr:`execution_time`, or when ``FOLD_EVERY`` updates have piled up (memory stays bounded in a long run).
+    The controller loop records an update by appending its two figures to :attr:`pending` (two floats on a list, the
+    cheapest record Python has, and nothing the garbage collector has to look at) and calls :meth:`fold` once the list
+    holds ``FOLD_AT`` figures (memory stays bounded in a long run); reading :attr:`period` or :attr:`execution_time`
+    folds them too, in the order they came.
 
     Attributes:
         pending: ``execution_us, period`` of each update not folded in yet, one after the other.
     """
 
     FOLD_EVERY = 4096
+    #: Length of :attr:`pending` at which the loop folds: ``FOLD_EVERY`` updates, two figures each.
+    FOLD_AT = 2 * FOLD_EVERY
 
     __slots__ = ("_period", "_execution_time", "pending")
 
@@ -82,13 +84,6 @@ class ControllerStatistics:
         if self.pending:
             self.fold()
         return self._execution_time
-
-    def record(self, execution_us: float, period: float) -> None:
-        """Account for one update: its execution time [µs] and the period it received [s]."""
-        pending = self.pending
-        pending += (execution_us, period)
-        if len(pending) >= 2 * self.FOLD_EVERY:
-            self.fold()
 
     def fold(self) -> None:
         """Fold the pending figures into the running ones, oldest first (builtins over the whole batch: folding costs

@@ -320,3 +320,13 @@ def test_a_controller_name_is_never_code_in_the_compiled_loop(system: rw.System)
     assert cm.switch_controllers(activate=[name], strictness="strict")
     system.spin_cycles(3)  # the name is a repr in a comment and a string in the namespace: nothing raises
     assert repr(name) in cm._loop.source and cm.get_controller(name).get_lifecycle_state().label == "active"  # noqa: SLF001
+
+
+def test_the_statistics_of_a_long_run_are_folded_as_they_pile_up(system: rw.System) -> None:
+    from rrbot_workshop.controller_manager.statistics import ControllerStatistics
+
+    stats = system.controller_manager._controllers[FWD].statistics  # noqa: SLF001 - the record behind the figures
+    system.spin_cycles(ControllerStatistics.FOLD_EVERY + 10)
+    assert len(stats.pending) < ControllerStatistics.FOLD_AT  # folded once during the run, not only when read
+    assert stats.period.count == ControllerStatistics.FOLD_EVERY + 12 and not stats.pending  # + the fixture's two
+    assert stats.period.minimum == stats.period.maximum == pytest.approx(0.01)
