@@ -127,13 +127,7 @@ class Publisher:
         if bus._subs.get(topic):  # subscribers read every message: build it now
             bus._publish(topic, build(*args))
             return
-        item = _Lazy((build, *args))
-        history = bus._history.get(topic)
-        if history is None:
-            bus._keep(topic, item)
-        else:  # TopicBus._keep, inlined for the cycle
-            bus._latest[topic] = item
-            history.append(item)
+        bus._keep(topic, _Lazy((build, *args)))
 
     def get_subscription_count(self) -> int:
         """Number of subscriptions on this topic."""
