@@ -15,8 +15,7 @@ The specification (the task folder's ``rrbot_description`` and ``rrbot_bringup``
 
 from __future__ import annotations
 
-import logging
-from collections.abc import Callable, Iterator
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -36,13 +35,6 @@ JSB, FWD, JTC = "joint_state_broadcaster", "forward_position_controller", "joint
 GOALS = ([0.785, 0.785], [0.0, 0.0], [-0.785, -0.785], [0.0, 0.0])
 MUJOCO, MOCK, DRIVER = ("rrbot_workshop/MujocoSystem", "mock_components/GenericSystem",
                         "controlko_hardware_interface/RRBotHardwareInterface")
-
-
-@pytest.fixture(autouse=True)
-def _quiet() -> Iterator[None]:
-    logging.disable(logging.WARNING)
-    yield
-    logging.disable(logging.NOTSET)
 
 
 def _plugin(path: Path, **xacro_args: Any) -> str:

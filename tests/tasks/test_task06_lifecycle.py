@@ -14,7 +14,6 @@ The specification (``lifecycle.py`` of the task folder), each function run on a 
 
 from __future__ import annotations
 
-import logging
 from collections.abc import Callable, Iterator
 from pathlib import Path
 from types import ModuleType
@@ -51,9 +50,7 @@ def learner(task_file: Callable[[int, str], Path]) -> Iterator[ModuleType]:
     module = rw.course.load_module(TASK, FILE, quiet=True)
     if module is None:
         pytest.fail(f"{FILE} does not import", pytrace=False)
-    logging.disable(logging.CRITICAL)
     yield module
-    logging.disable(logging.NOTSET)
 
 
 def _system(inactive: tuple[str, ...] = ()) -> rw.System:

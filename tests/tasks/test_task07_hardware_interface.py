@@ -16,7 +16,6 @@ The specification (``rrbot_hardware_interface.py`` and ``rrbot_controllers.yaml`
 
 from __future__ import annotations
 
-import logging
 import math
 from collections.abc import Callable, Iterator
 from pathlib import Path
@@ -70,9 +69,7 @@ def learner(task_file: Callable[[int, str], Path]) -> Iterator[ModuleType]:
     if not isinstance(cls, type):
         pytest.fail(f"{FILE} defines no class RRBotHardwareInterface", pytrace=False)
     plugins.register("hardware", PLUGIN, cls)
-    logging.disable(logging.CRITICAL)
     yield module
-    logging.disable(logging.NOTSET)
     plugins.unregister("hardware", PLUGIN)
 
 
