@@ -63,6 +63,9 @@ def build_parser() -> argparse.ArgumentParser:
                         help="new folder for your description and bringup as ROS 2 packages (controlko_description, "
                              "controlko_bringup), from the current track")
     export.add_argument("--force", action="store_true", help="with --ros2: write into a folder that is not empty")
+    export.add_argument("--withhold-references", action="store_true",
+                        help="with --student: replace the library's worked answers (task 7's driver, task 8's "
+                             "controller, task 13's planner) by stand-ins; the copy's README says what they do")
 
     lint = sub.add_parser("lint", help="check controllers YAML files and descriptions against what Jazzy accepts")
     lint.add_argument("files", nargs="+", metavar="FILE",
@@ -148,6 +151,9 @@ def _cmd_export(args: argparse.Namespace) -> int:
     if args.ros2:
         from rrbot_workshop.course.ros2_export import export_ros2
 
+        if args.withhold_references:
+            raise CourseError("--withhold-references", "--ros2", "only applies to a student copy (--student DIR)")
+
         result = export_ros2(args.ros2, force=args.force)
         print(f"Wrote ROS 2 packages to {result.root}: {len(result.copied)} file(s) of yours copied as they are, "
               f"{len(result.generated)} generated (package.xml, CMakeLists.txt, launch file, README.md).")
@@ -155,8 +161,11 @@ def _cmd_export(args: argparse.Namespace) -> int:
         return 0
 
     left_out = uncommitted_changes(tracks.course_root())
-    target = export_student_copy(args.student)
+    target = export_student_copy(args.student, withhold_references=args.withhold_references)
     print(f"Wrote a student copy of the course as committed (without solutions/) to {target}")
+    if args.withhold_references:
+        print("The library's references for tasks 7, 8 and 13 are replaced by stand-ins (see the copy's README and "
+              "WITHHELD.json).")
     if left_out:
         print(f"Not in the copy: uncommitted changes to {len(left_out)} file(s), e.g. {', '.join(left_out[:3])}; "
               "commit them first if learners should get them.")
