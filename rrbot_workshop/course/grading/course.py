@@ -223,6 +223,12 @@ def _student_readme(text: str) -> str:
     return re.sub(r"<!-- instructor -->.*?<!-- /instructor -->\n?", "", text, flags=re.DOTALL)
 
 
+def _with_section(text: str, section: str) -> str:
+    """``text`` with ``section`` before its "## License" heading (at the end if it has none)."""
+    at = text.find("\n## License")
+    return text.rstrip("\n") + "\n" + section if at < 0 else text[:at].rstrip("\n") + "\n" + section + text[at:]
+
+
 def _exported(rel: str) -> bool:
     parts = PurePosixPath(rel).parts
     return not (parts[0] in EXPORT_EXCLUDE_TOP or any(p in EXPORT_EXCLUDE or p.endswith(".egg-info") for p in parts))
@@ -275,7 +281,7 @@ def export_student_copy(dest: str | os.PathLike[str], *, withhold_references: bo
         write_withheld_copy(target)
     readme = target / "README.md"
     if readme.is_file():
-        readme.write_text(_student_readme(readme.read_text()) + readme_section(withhold_references))
+        readme.write_text(_with_section(_student_readme(readme.read_text()), readme_section(withhold_references)))
     archive = target / PRISTINE_ARCHIVE
     archive.parent.mkdir(parents=True, exist_ok=True)
     buffer = io.BytesIO()

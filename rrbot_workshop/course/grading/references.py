@@ -48,6 +48,7 @@ class LibraryReference:
         module: The Python module, for references a copy can withhold (``""`` for descriptions, which are kept).
         tests: Unit tests of the reference itself, left out of a copy that withholds it.
         notebooks: Notebooks whose stored outputs were made with it: a withholding copy runs them without comparing.
+        kept: Why a copy keeps it (references that are not withheld).
     """
 
     path: str
@@ -56,6 +57,7 @@ class LibraryReference:
     module: str = ""
     tests: tuple[str, ...] = ()
     notebooks: tuple[str, ...] = ()
+    kept: str = ""
 
 
 REFERENCES: tuple[LibraryReference, ...] = (
@@ -74,9 +76,12 @@ REFERENCES: tuple[LibraryReference, ...] = (
                      notebooks=("notebooks/13_jerk_limited_trajectories.ipynb",)),
     LibraryReference("descriptions/rrbot/", (1, 2, 5, 7, 9),
                      "the RRBot xacro macros with their <ros2_control> tag, the mock and simulation switches, and the "
-                     "controllers YAML files (mock, simulation, the incompatible JTC, the PID chain)"),
-    LibraryReference("descriptions/rrbot_on_diffbot/", (10,), "RRBot on DiffBot: the composed xacro and its YAML"),
-    LibraryReference("descriptions/multi_rrbot/", (11,), "two prefixed RRBots: the xacro and the controllers YAML"),
+                     "controllers YAML files (mock, simulation, the incompatible JTC, the PID chain)",
+                     kept="every notebook from 02 on brings the RRBot up from these files"),
+    LibraryReference("descriptions/rrbot_on_diffbot/", (10,), "RRBot on DiffBot: the composed xacro and its YAML",
+                     kept="notebook 10 runs on them until your own files of task 10 are complete"),
+    LibraryReference("descriptions/multi_rrbot/", (11,), "two prefixed RRBots: the xacro and the controllers YAML",
+                     kept="notebook 11 runs on them until your own files of task 11 are complete"),
 )
 
 _WITHHELD_NOTE = ('"""Withheld from this copy of the course: the library\'s reference for task {task} ({answers}).\n\n'
@@ -198,11 +203,10 @@ def readme_section(withhold: bool) -> str:
              "tasks:", ""]
     for ref in REFERENCES:
         tasks = ", ".join(str(t) for t in ref.tasks)
-        state = ""
         if ref.module:
             state = " **Withheld from this copy.**" if withhold else ""
         else:
-            state = " Kept in every copy: every notebook from 02 on brings the RRBot up from these files."
+            state = f" Kept in every copy: {ref.kept}."
         lines.append(f"- `{ref.path}` (task{'s' if len(ref.tasks) > 1 else ''} {tasks}): {ref.answers}.{state}")
     lines.append("")
     if withhold:
