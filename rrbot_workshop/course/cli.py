@@ -67,6 +67,12 @@ def build_parser() -> argparse.ArgumentParser:
                         help="with --student: replace the library's worked answers (task 7's driver, task 8's "
                              "controller, task 13's planner) by stand-ins; the copy's README says what they do")
 
+    room = sub.add_parser("class-report", help="the instructor's view of a room: every learner's progress from their "
+                                              "attempt logs, as JSON, CSV and HTML")
+    room.add_argument("workspaces", nargs="+", metavar="WORKSPACE",
+                      help="learners' course folders or homes, or globs of them ('/home/*')")
+    room.add_argument("--out", metavar="DIR", required=True, help="folder for report.json, report.csv, report.html")
+
     lint = sub.add_parser("lint", help="check controllers YAML files and descriptions against what Jazzy accepts")
     lint.add_argument("files", nargs="+", metavar="FILE",
                       help="controllers YAML (.yaml/.yml) or description (.urdf/.xacro) files")
@@ -196,6 +202,21 @@ def _cmd_lint(args: argparse.Namespace) -> int:
     return LINT_ERRORS if any(f.level == "error" for f in findings) else 0
 
 
+def _cmd_class_report(args: argparse.Namespace) -> int:
+    from rrbot_workshop.course.class_report import build_report, write_report
+
+    report = build_report(args.workspaces)
+    paths = write_report(report, Path(args.out))
+    stuck = report.stuck()
+    print(f"{len(report.learners)} learner(s); wrote {', '.join(str(p) for p in paths)}")
+    if stuck:
+        top = stuck[0]
+        print(f"Most learners stuck on: task {top['task']} {top['check']} ({top['learners_failing']} learner(s))")
+    for note in report.notes:
+        print(f"note: {note}")
+    return 0
+
+
 _COMMANDS = {
     "grade": _cmd_grade,
     "progress": _cmd_progress,
@@ -203,6 +224,7 @@ _COMMANDS = {
     "reset": _cmd_reset,
     "export": _cmd_export,
     "lint": _cmd_lint,
+    "class-report": _cmd_class_report,
 }
 
 

@@ -184,7 +184,10 @@ def grade(
         more = "; change your files and check again for the next hint" if level < len(levels) - 1 else ""
         result.hint = f"{levels[level]} (hint {level + 1} of {len(levels)}{more})"
     if learner:
-        attempts.record(task, rubric.score, rubric.max_score, [c.name for c in rubric.failed()], version=version)
+        failed = rubric.failed()
+        reasons = {c.name: c.detail for c in failed}
+        attempts.record(task, rubric.score, rubric.max_score, [c.name for c in failed], version=version,
+                        reasons=reasons)
     return rubric
 
 
