@@ -67,6 +67,14 @@ def build_parser() -> argparse.ArgumentParser:
                         help="with --student: replace the library's worked answers (task 7's driver, task 8's "
                              "controller, task 13's planner) by stand-ins; the copy's README says what they do")
 
+    init = sub.add_parser("init", help="make (or update) a learner's workspace from the course installed for a room")
+    init.add_argument("workspace", nargs="?", metavar="DIR", help="the workspace (default ~/rrbot_workshop)")
+    init.add_argument("--from", dest="source", metavar="COURSE",
+                      help="the installed course folder (default: the one this library belongs to)")
+    single = sub.add_parser("singleuser", help="JupyterHub's single-user server for a learner: init ~/rrbot_workshop, "
+                                               "then start jupyterhub-singleuser there (set it as the spawner's cmd)")
+    single.add_argument("args", nargs=argparse.REMAINDER, help="passed on to jupyterhub-singleuser")
+
     room = sub.add_parser("class-report", help="the instructor's view of a room: every learner's progress from their "
                                               "attempt logs, as JSON, CSV and HTML")
     room.add_argument("workspaces", nargs="+", metavar="WORKSPACE",
@@ -202,6 +210,32 @@ def _cmd_lint(args: argparse.Namespace) -> int:
     return LINT_ERRORS if any(f.level == "error" for f in findings) else 0
 
 
+def _cmd_init(args: argparse.Namespace) -> int:
+    from rrbot_workshop.course.workspace import init_workspace
+
+    result = init_workspace(args.workspace, args.source)
+    what = "made" if result.created else "updated"
+    print(f"Workspace {what}: {result.workspace} ({len(result.added)} exercise file(s) added, "
+          f"{len(result.updated)} updated)")
+    for rel in result.kept:
+        print(f"  {rel}: you changed it and so did the course; yours is kept, the course's is beside it as "
+              f"{Path(rel).name}.course-update")
+    for line in result.notebooks:
+        print(f"  {line}")
+    if result.created:
+        print(f"Work in {result.workspace}: open my_notebooks/00_intro.ipynb; in a terminal, cd there first.")
+    return 0
+
+
+def _cmd_singleuser(args: argparse.Namespace) -> int:
+    from rrbot_workshop.course.workspace import init_workspace, singleuser_command
+
+    result = init_workspace()
+    command = singleuser_command(result.workspace, list(args.args))
+    os.execvp(command[0], command)  # the server takes this process's place: the spawner's signals reach it
+    return 0  # pragma: no cover - execvp does not return
+
+
 def _cmd_class_report(args: argparse.Namespace) -> int:
     from rrbot_workshop.course.class_report import build_report, write_report
 
@@ -225,6 +259,8 @@ _COMMANDS = {
     "export": _cmd_export,
     "lint": _cmd_lint,
     "class-report": _cmd_class_report,
+    "init": _cmd_init,
+    "singleuser": _cmd_singleuser,
 }
 
 
