@@ -267,6 +267,10 @@ _COMMANDS = {
 def main(argv: Sequence[str] | None = None) -> int:
     """Run ``rrbot-workshop`` with ``argv`` (default ``sys.argv[1:]``) and return the exit status."""
     parser = build_parser()
+    given = list(sys.argv[1:] if argv is None else argv)
+    if given[:1] == ["singleuser"] and not {"-h", "--help"} & set(given[1:2]):
+        # everything after the command is the spawner's, options included (argparse would take them as ours)
+        return _cmd_singleuser(argparse.Namespace(args=given[1:]))
     try:
         args = parser.parse_args(argv)
     except SystemExit as exc:  # argparse: --help (0) or a usage error (2)
