@@ -220,22 +220,28 @@ c.JupyterHub.cleanup_servers = True
                 self.process.wait()
         return self._leftovers()
 
-    def _leftovers(self) -> list[str]:
-        """Processes whose command line names this room's folder or ports, killed; their command lines."""
-        marks = (str(self.folder), f":{self.api_port}", f"--port={self.port}", str(self.homes))
-        found = []
+    def processes(self) -> dict[int, str]:
+        """This room's processes (the hub, its proxy, servers, kernels): pid -> command line (Linux /proc)."""
+        marks = (str(self.folder), f":{self.api_port}", f"--port={self.port}")
+        found = {}
         for proc in Path("/proc").glob("[0-9]*"):
             try:
-                cmdline = (proc / "cmdline").read_bytes().replace(b"\0", b" ").decode(errors="replace")
+                cmdline = (proc / "cmdline").read_bytes().replace(b"\0", b" ").decode(errors="replace").strip()
             except OSError:
                 continue
             if int(proc.name) != os.getpid() and any(m in cmdline for m in marks):
-                found.append(cmdline.strip())
-                try:
-                    os.kill(int(proc.name), signal.SIGKILL)
-                except OSError:
-                    pass
+                found[int(proc.name)] = cmdline
         return found
+
+    def _leftovers(self) -> list[str]:
+        """This room's processes still running, killed; their command lines."""
+        found = self.processes()
+        for pid in found:
+            try:
+                os.kill(pid, signal.SIGKILL)
+            except OSError:
+                pass
+        return list(found.values())
 
     def remove(self) -> None:
         """Delete the room's folder."""
