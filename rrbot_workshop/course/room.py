@@ -163,7 +163,13 @@ c.JupyterHub.cleanup_servers = True
 
     def start_server(self, name: str, token: str) -> None:
         """Start the learner's server and wait until it answers."""
-        status, _ = self.api("POST", f"/hub/api/users/{name}/server", token=token)
+        deadline = time.monotonic() + self.timeout
+        while True:
+            status, _ = self.api("POST", f"/hub/api/users/{name}/server", token=token)
+            # 429/503: the hub is busy with other spawns and says to try again, as a learner's browser would
+            if status not in (0, 429, 503) or time.monotonic() > deadline:
+                break
+            time.sleep(1.0)
         if status not in (201, 202, 400):
             raise RuntimeError(f"starting {name}'s server: HTTP {status}")
         self._wait(lambda: self.api("GET", f"/user/{name}/api/status", token=token)[0] == 200, f"{name}'s server")
