@@ -8,7 +8,9 @@ recorded, so a room of 30 is reported in a second. A log that cannot be read, or
 moment, becomes a note in the report, never an error.
 
 A workspace is a learner's course folder (the one holding ``exercises/``), or a home folder holding one at
-``rrbot_workshop/`` (what ``rrbot-workshop init`` makes); each may be given as a glob (``/home/*``).
+``rrbot_workshop/`` (what ``rrbot-workshop init`` makes); each may be given as a glob (``/home/*``). On a hub, the
+learners can come from the hub's user list instead (:func:`hub_homes`: ``--hub URL --home-template
+'/home/jupyter-{username}'``, with an API token in ``$JUPYTERHUB_API_TOKEN``).
 """
 
 from __future__ import annotations
@@ -28,8 +30,8 @@ from typing import Any
 
 from rrbot_workshop.exceptions import CourseError
 
-__all__ = ["LearnerTask", "Learner", "RoomReport", "find_workspaces", "read_learner", "build_report", "write_report",
-           "WORKSPACE_NAME"]
+__all__ = ["LearnerTask", "Learner", "RoomReport", "find_workspaces", "hub_homes", "read_learner", "build_report",
+           "write_report", "WORKSPACE_NAME"]
 
 #: The folder ``rrbot-workshop init`` makes in a learner's home.
 WORKSPACE_NAME = "rrbot_workshop"
@@ -145,6 +147,34 @@ def find_workspaces(patterns: list[str]) -> list[tuple[str, Path]]:
     return sorted(((name, path) for path, name in found.items()), key=lambda item: (item[0], str(item[1])))
 
 
+def hub_homes(url: str, token: str, template: str) -> list[str]:
+    """The home of every user of the JupyterHub at ``url`` (its REST API's user list), from ``template``.
+
+    Args:
+        url: The hub's address, e.g. ``http://127.0.0.1:8000``.
+        token: An API token allowed to list users (an admin's, or a service's with ``list:users``).
+        template: A home folder with ``{username}``, e.g. ``/home/jupyter-{username}`` (TLJH's).
+
+    Raises:
+        CourseError: If the template has no ``{username}``, or the hub does not answer with its users.
+    """
+    import urllib.error
+    import urllib.request
+
+    if "{username}" not in template:
+        raise CourseError("--home-template", template, "must contain {username}, e.g. '/home/jupyter-{username}'")
+    request = urllib.request.Request(url.rstrip("/") + "/hub/api/users", headers={"Authorization": f"token {token}"})
+    try:
+        with urllib.request.urlopen(request, timeout=30) as response:
+            users = json.loads(response.read())
+    except (urllib.error.URLError, ValueError, OSError) as exc:
+        raise CourseError("--hub", url, f"did not list its users ({exc}); give the hub's address and an API token "
+                          "allowed to list users in $JUPYTERHUB_API_TOKEN") from None
+    if not isinstance(users, list):
+        raise CourseError("--hub", url, "answered something other than a list of users")
+    return [template.format(username=u["name"]) for u in users if isinstance(u, dict) and isinstance(u.get("name"), str)]
+
+
 def read_learner(name: str, workspace: Path) -> Learner:
     """What a learner's attempt logs say; unreadable logs become notes."""
     learner = Learner(name, workspace)
@@ -200,10 +230,26 @@ def _record(task: int, attempts: list[Any]) -> LearnerTask:
     return record
 
 
-def build_report(patterns: list[str]) -> RoomReport:
-    """Read every workspace the patterns name (see :func:`find_workspaces`)."""
-    learners = [read_learner(name, path) for name, path in find_workspaces(patterns)]
-    return RoomReport(learners, [note for learner in learners for note in learner.notes])
+def build_report(patterns: list[str], missing_ok: bool = False) -> RoomReport:
+    """Read every workspace the patterns name (see :func:`find_workspaces`).
+
+    Args:
+        patterns: Workspaces, homes, or globs of them.
+        missing_ok: A home without a workspace (a hub user who never started a server) is a note, not an error.
+    """
+    notes: list[str] = []
+    if missing_ok:
+        kept = []
+        for pattern in patterns:
+            try:
+                find_workspaces([pattern])
+            except CourseError:
+                notes.append(f"{pattern}: no workspace yet (never started a server?)")
+            else:
+                kept.append(pattern)
+        patterns = kept
+    learners = [read_learner(name, path) for name, path in find_workspaces(patterns)] if patterns else []
+    return RoomReport(learners, notes + [note for learner in learners for note in learner.notes])
 
 
 def _progress_png(report: RoomReport) -> bytes:

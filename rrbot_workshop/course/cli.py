@@ -77,8 +77,12 @@ def build_parser() -> argparse.ArgumentParser:
 
     room = sub.add_parser("class-report", help="the instructor's view of a room: every learner's progress from their "
                                               "attempt logs, as JSON, CSV and HTML")
-    room.add_argument("workspaces", nargs="+", metavar="WORKSPACE",
+    room.add_argument("workspaces", nargs="*", metavar="WORKSPACE",
                       help="learners' course folders or homes, or globs of them ('/home/*')")
+    room.add_argument("--hub", metavar="URL", help="take the learners from this JupyterHub's user list (an API token "
+                                                   "allowed to list users in $JUPYTERHUB_API_TOKEN)")
+    room.add_argument("--home-template", metavar="PATH", default="/home/jupyter-{username}",
+                      help="with --hub: a learner's home (default TLJH's '/home/jupyter-{username}')")
     room.add_argument("--out", metavar="DIR", required=True, help="folder for report.json, report.csv, report.html")
 
     lint = sub.add_parser("lint", help="check controllers YAML files and descriptions against what Jazzy accepts")
@@ -237,9 +241,14 @@ def _cmd_singleuser(args: argparse.Namespace) -> int:
 
 
 def _cmd_class_report(args: argparse.Namespace) -> int:
-    from rrbot_workshop.course.class_report import build_report, write_report
+    from rrbot_workshop.course.class_report import build_report, hub_homes, write_report
 
-    report = build_report(args.workspaces)
+    patterns = list(args.workspaces)
+    if args.hub:
+        patterns += hub_homes(args.hub, os.environ.get("JUPYTERHUB_API_TOKEN", ""), args.home_template)
+    if not patterns:
+        raise CourseError("class-report", "", "name the learners' workspaces ('/home/*') or a hub (--hub URL)")
+    report = build_report(patterns, missing_ok=bool(args.hub))
     paths = write_report(report, Path(args.out))
     stuck = report.stuck()
     print(f"{len(report.learners)} learner(s); wrote {', '.join(str(p) for p in paths)}")

@@ -108,3 +108,17 @@ def test_the_command_prints_where_the_room_is_stuck(room: Path, tmp_path: Path, 
     out = capsys.readouterr().out
     assert out.startswith("3 learner(s); wrote ") and "Most learners stuck on: task 1 link1_shape" in out
     assert main(["class-report", str(tmp_path / "none*"), "--out", str(tmp_path / "r")]) == 2
+
+
+def test_hub_homes_needs_a_template_with_the_user_and_an_answering_hub() -> None:
+    from rrbot_workshop.course.class_report import hub_homes
+
+    with pytest.raises(CourseError, match="must contain"):
+        hub_homes("http://127.0.0.1:9", "t", "/home/nobody")
+    with pytest.raises(CourseError, match="did not list its users"):
+        hub_homes("http://127.0.0.1:9", "t", "/home/{username}")
+
+
+def test_class_report_without_workspaces_or_a_hub_is_refused(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["class-report", "--out", str(tmp_path / "r")]) == 2
+    assert "--hub" in capsys.readouterr().err

@@ -15,6 +15,7 @@ from pathlib import Path
 import pytest
 
 from rrbot_workshop.course.class_report import build_report, write_report
+from rrbot_workshop.course.cli import main
 from rrbot_workshop.course.room import LearnerRun, Room
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -42,6 +43,13 @@ def room(tmp_path_factory: pytest.TempPathFactory) -> tuple[Room, dict[str, Lear
             futures = {name: pool.submit(room.learner_session, name, prepare=_solve if solved else None)
                        for name, solved in LEARNERS.items()}
             runs = {name: future.result() for name, future in futures.items()}
+        room.login("dan")  # a learner who never started a server: no workspace yet
+        # the instructor asks the hub who is in the room
+        with pytest.MonkeyPatch.context() as mp:
+            mp.setenv("JUPYTERHUB_API_TOKEN", room.token)
+            code = main(["class-report", "--hub", room.url, "--home-template", f"{room.homes}/{{username}}",
+                         "--out", str(room.folder / "hub_report")])
+        assert code == 0
     finally:
         left = room.stop()
     return room, runs, left
@@ -80,6 +88,13 @@ def test_the_class_report_shows_the_room(room, tmp_path: Path) -> None:
     assert stuck and all(r["task"] == 2 and r["learners_failing"] == 1 for r in stuck)
     paths = write_report(report, tmp_path / "report")
     assert "ben" in paths[2].read_text()
+
+
+def test_the_class_report_can_take_the_learners_from_the_hubs_user_list(room) -> None:
+    hub, _, _ = room
+    data = json.loads((hub.folder / "hub_report" / "report.json").read_text())
+    assert [lr["name"] for lr in data["learners"]] == sorted(LEARNERS)
+    assert any("dan" in note and "no workspace yet" in note for note in data["notes"])
 
 
 def test_nothing_of_the_room_is_left_running(room) -> None:
