@@ -31,6 +31,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import rrbot_workshop as rw
+from rrbot_workshop.controller_manager.switch import normalize_strictness
 from rrbot_workshop.course.grading import graded
 from rrbot_workshop.exceptions import RRBotWorkshopError
 from rrbot_workshop.middleware.lifecycle import ReturnType
@@ -174,26 +175,42 @@ def _switch_run(learner: ModuleType) -> tuple[dict[str, str], list[dict[str, Any
         cm.add_cycle_hook(lambda t, p: commanded.append(
             sum(c.state == "active" for c in cm.list_controllers() if c.name in (FWD, JTC))))
         system.spin(0.05)
-        switches: list[dict[str, Any]] = []
-        original = cm.switch_controllers
-        signature = inspect.signature(original)
-
-        def recorded(*args: Any, **kwargs: Any) -> Any:
-            bound = signature.bind(*args, **kwargs)
-            bound.apply_defaults()
-            switches.append({"activate": list(bound.arguments["activate"] or ()),
-                             "deactivate": list(bound.arguments["deactivate"] or ()),
-                             "strictness": bound.arguments["strictness"]})
-            return original(*bound.args, **bound.kwargs)
-
-        cm.switch_controllers = recorded  # type: ignore[method-assign]
+        switches = _spy_switches(cm)
         _call(learner, "switch_to_trajectory_controller", cm)
         system.spin(0.05)
         return _states(system)[0], switches, commanded
 
 
-def _strict(strictness: Any) -> bool:
-    return strictness == 2 or str(strictness).strip().lower() in ("strict", "2")
+def _spy_switches(cm: Any) -> list[dict[str, Any]]:
+    """Record every switch the learner asks of ``cm``: activate, deactivate and strictness, however they are passed."""
+    switches: list[dict[str, Any]] = []
+    original = cm.switch_controllers
+    signature = inspect.signature(original)
+
+    def recorded(*args: Any, **kwargs: Any) -> Any:
+        bound = signature.bind(*args, **kwargs)
+        bound.apply_defaults()
+        switches.append({"activate": list(bound.arguments["activate"] or ()),
+                         "deactivate": list(bound.arguments["deactivate"] or ()),
+                         "strictness": _effective(cm, bound.arguments["strictness"])})
+        return original(*bound.args, **bound.kwargs)
+
+    cm.switch_controllers = recorded
+    return switches
+
+
+def _effective(cm: Any, strictness: Any) -> str:
+    """The strictness a switch runs with: the manager's default for None or 0, else the name of the value given."""
+    if strictness is None or strictness == 0:
+        return str(cm.default_strictness)
+    try:
+        return normalize_strictness(strictness)
+    except RRBotWorkshopError:
+        return repr(strictness)
+
+
+def _strict(strictness: str) -> bool:
+    return strictness == "strict"
 
 
 @graded(points=1, hint=(
@@ -256,8 +273,12 @@ def _recover_single(learner: ModuleType, controllers: list[str], spawn: tuple[st
         before = _states(system)
         assert before[1] == {"rrbot": "unconfigured"}, f"the grader's read error did not take effect: {before}"
         call = f"recover(cm, 'rrbot', {controllers})"
+        switches = _spy_switches(cm)
         _call(learner, "recover", cm, "rrbot", list(controllers))
         after = _states(system)
+        together = [s for s in switches if set(controllers) <= set(s["activate"])]
+        assert together, (f"{call} in {FILE} made the switches {[s['activate'] for s in switches]}; the task asks to "
+                          f"activate {controllers} in one switch")
         assert after[1] == {"rrbot": "active"}, f"after {call} in {FILE} the hardware is {after[1]}, not active"
         wanted = {n: ("active" if n in controllers else s) for n, s in before[0].items()}
         assert after[0] == wanted, f"after {call} in {FILE} the controllers are {after[0]}; expected {wanted}"
@@ -287,7 +308,8 @@ def test_recover_the_hardware(learner: ModuleType) -> None:
 
 
 @graded(points=1, hint=(
-    "Task 6.2: once the component is active, exactly the controllers you are given are activated again, in one switch; "
+    "Task 6.2: once the component is active, exactly the controllers you are given are activated again, in one switch "
+    "(a controller not in the list stays inactive); "
     "the robot then moves again.",
     "cm.switch_controllers(activate=controllers, strictness='strict') after the hardware request (a switch before it "
     "is rejected: the interfaces are unavailable).",
