@@ -32,7 +32,7 @@ from hypothesis import strategies as st
 
 import rrbot_workshop as rw
 from rrbot_workshop.bringup import systems
-from rrbot_workshop.controller_manager.manager import ControllerManager
+from rrbot_workshop.controller_manager.lifecycle import ControllerLifecycle
 from rrbot_workshop.course import tracks
 from rrbot_workshop.course.grading import graded
 from rrbot_workshop.description import parse_ros2_control, process_xacro
@@ -186,14 +186,13 @@ def test_macro_parameter(task_file: Callable[[int, str], Path]) -> None:
                 '<?xml version="1.0"?>\n<robot name="caller" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
                 f'  <xacro:include filename="{macro}" />\n'
                 f'  <xacro:rrbot_ros2_control name="rrbot" prefix="" {call} />\n</robot>\n')
-            where = f"{MACRO}'s rrbot_ros2_control called as <xacro:rrbot_ros2_control name=\"rrbot\" prefix=\"\" {call}/>"
+            where = f"the macro rrbot_ros2_control of {MACRO} called with {call or 'no sim_mujoco'}"
             try:
                 root = ElementTree.fromstring(process_xacro(wrapper))
             except (RRBotWorkshopError, ElementTree.ParseError) as exc:
                 said = re.sub(r"\s*\(in file [^)]*\)", "", _said(exc)).replace(f"{wrapper}: ", "")
-                pytest.fail(f"{where} does not process ({said.replace(str(macro), MACRO)}): does the macro declare a parameter "
-                            "sim_mujoco with the default false, and use ${sim_mujoco} rather than $(arg sim_mujoco)?",
-                            pytrace=False)
+                pytest.fail(f"{where} does not process ({said.replace(str(macro), MACRO)}): give the macro a "
+                            "parameter sim_mujoco:=false and use ${sim_mujoco} in it", pytrace=False)
             plugins = [(p.text or "").strip() for p in root.iter("plugin")]
             tags, plugin = len(plugins), (plugins[0] if plugins else "no plugin")
             expected = _expected(args)
@@ -331,7 +330,10 @@ def _check_up(system: rw.System, robot: str, other: str, call: str) -> None:
                                  "(bring it up, do not spin it)")
         states = {c.name: c.state for c in system.controller_manager.list_controllers()}
         wanted = {JSB: "active", robot: "active", other: "inactive"}
-        assert states == wanted, f"after {call} the controllers are {states}; the task asks for {wanted}"
+        wrong = [f"{n} is {states[n]} (the task asks for {s})" if n in states else f"{n} is not loaded (the task asks "
+                 f"for {s})" for n, s in wanted.items() if states.get(n) != s]
+        wrong += [f"{n} is loaded ({states[n]}), which the task does not ask for" for n in states if n not in wanted]
+        assert not wrong, f"after {call}: " + "; ".join(wrong)
         plugin = system.resource_manager.get_component("rrbot").info.hardware_plugin_name
         assert plugin == MUJOCO, f"after {call} the hardware is '{plugin}', not the simulator '{MUJOCO}'"
 
@@ -422,18 +424,20 @@ def test_bringup_refuses_an_unknown_controller(task_file: Callable[[int, str], P
 
 @contextmanager
 def _configure_fails(name: str) -> Iterator[None]:
-    original = ControllerManager.configure_controller
+    """Configuring controller ``name`` fails, however it is asked (configure_controller, set_controller_state,
+    rw.bringup)."""
+    original = ControllerLifecycle.configure
 
-    def failing(self: ControllerManager, controller: str) -> None:
+    def failing(self: ControllerLifecycle, controller: str) -> None:
         if controller == name:
             raise ControllerError(f"configuring '{controller}' failed (the grader makes it fail)")
         original(self, controller)
 
-    ControllerManager.configure_controller = failing  # type: ignore[method-assign]
+    ControllerLifecycle.configure = failing  # type: ignore[method-assign]
     try:
         yield
     finally:
-        ControllerManager.configure_controller = original  # type: ignore[method-assign]
+        ControllerLifecycle.configure = original  # type: ignore[method-assign]
 
 
 @graded(points=1, hint=(
