@@ -20,11 +20,11 @@ from __future__ import annotations
 
 import re
 import tempfile
-from xml.etree import ElementTree
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
+from xml.etree import ElementTree
 
 import pytest
 from hypothesis import HealthCheck, given, settings
@@ -253,7 +253,7 @@ def test_goals_reached_in_physics(task_file: Callable[[int, str], Path]) -> None
             _goal(system, goal)
             system.spin(4.0)
             reached = list(system.latest("/joint_states").position)
-            off = max(abs(r - g) for r, g in zip(reached, goal))
+            off = max(abs(r - g) for r, g in zip(reached, goal, strict=False))
             assert off <= GOAL_TOLERANCE, (
                 f"goal {goal} (3 s, then 1 s to settle): the simulated joints are at {[round(q, 3) for q in reached]}, "
                 f"{off:.3f} rad away; the task asks for {GOAL_TOLERANCE} rad. Are the effort limits in your "
@@ -290,7 +290,7 @@ def test_two_runs_identical(task_file: Callable[[int, str], Path]) -> None:
                 system.spin_cycles(1)
                 trace.append(tuple(system.latest("/joint_states").position))
             runs.append(trace)
-    first = next((i for i, (a, b) in enumerate(zip(*runs)) if a != b), None)
+    first = next((i for i, (a, b) in enumerate(zip(*runs, strict=True)) if a != b), None)
     assert first is None, f"two runs of the same goal differ from cycle {first} on: {runs[0][first]} and {runs[1][first]}"
     assert runs[0][-1] != runs[0][0], "the arm did not move in 1.5 s after a goal [0.5, 0.3]"
 

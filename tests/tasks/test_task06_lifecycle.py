@@ -287,7 +287,7 @@ def _recover_single(learner: ModuleType, controllers: list[str], spawn: tuple[st
             system.publish(f"/{FWD}/commands", Float64MultiArray(data=[0.4, -0.2]))
             system.spin(0.05)
             position = list(system.latest("/joint_states").position)
-            assert all(abs(q - g) < 1e-6 for q, g in zip(position, [0.4, -0.2])), (
+            assert all(abs(q - g) < 1e-6 for q, g in zip(position, [0.4, -0.2], strict=False)), (
                 f"after {call} a command [0.4, -0.2] left the joints at {position}: the robot does not move again")
 
 
