@@ -413,9 +413,10 @@ def _remove_from(learner: ModuleType, state: str) -> None:
 
 
 @graded(points=1, hint=(
-    "Task 6.3: unload refuses an active controller: an active one is first deactivated (the others stay as they were).",
-    "Look its state up in cm.list_controllers(); cm.switch_controllers(deactivate=[name], strictness='strict'), then "
-    "cm.unload_controller(name).",
+    "Task 6.3: remove_controller() must take an active controller out of the manager too, and leave the other "
+    "controllers as they were.",
+    "Unload refuses an active controller: look its state up in cm.list_controllers(); "
+    "cm.switch_controllers(deactivate=[name], strictness='strict'), then cm.unload_controller(name).",
     "if state == 'active': cm.switch_controllers(deactivate=[name], strictness='strict')",
 ))
 def test_remove_an_active_controller(learner: ModuleType) -> None:
@@ -423,9 +424,10 @@ def test_remove_an_active_controller(learner: ModuleType) -> None:
 
 
 @graded(points=1, hint=(
-    "Task 6.3: an inactive controller can be unloaded (Jazzy cleans it up on the way); cleaning it up yourself first "
-    "is fine too.",
-    "cm.unload_controller(name), optionally after cm.cleanup_controller(name).",
+    "Task 6.3: remove_controller() must take an inactive controller (configured, not running) out of the manager, "
+    "and leave the other controllers as they were.",
+    "An inactive controller can be unloaded as it is (Jazzy cleans it up on the way); cm.unload_controller(name), "
+    "optionally after cm.cleanup_controller(name).",
     "if state == 'inactive': cm.cleanup_controller(name)  # optional; then cm.unload_controller(name)",
 ))
 def test_remove_an_inactive_controller(learner: ModuleType) -> None:
@@ -433,8 +435,10 @@ def test_remove_an_inactive_controller(learner: ModuleType) -> None:
 
 
 @graded(points=1, hint=(
-    "Task 6.3: an unconfigured controller is unloaded as it is: cleanup refuses a controller that is not inactive.",
-    "Only call cm.cleanup_controller(name) when the controller is inactive; then cm.unload_controller(name).",
+    "Task 6.3: remove_controller() must take an unconfigured controller (loaded, not configured) out of the "
+    "manager, and leave the other controllers as they were.",
+    "An unconfigured controller is unloaded as it is: cleanup refuses a controller that is not inactive. Only call "
+    "cm.cleanup_controller(name) when it is inactive; then cm.unload_controller(name).",
     "if state in ('active', 'inactive'): cm.cleanup_controller(name)\ncm.unload_controller(name)",
 ))
 def test_remove_an_unconfigured_controller(learner: ModuleType) -> None:
