@@ -5,8 +5,9 @@ Each function gets the running system's controller manager (``system.controller_
 ``switch_controllers``, ``cleanup_controller``, ``unload_controller``, ``set_hardware_component_state`` and the
 ``list_controllers`` / ``list_hardware_components`` introspection.
 
-``PREDICTIONS`` holds what you expect of requests made on a fresh RRBot (notebook 06 lists them); the self-check runs
-each one and tells you which predictions are wrong, not what the right answer is.
+``PREDICTIONS`` (first in this file: make them before anything else) holds what you expect of requests made on a fresh
+RRBot; the self-check runs each one and tells you which parts of each prediction are wrong, not what the right answer
+is. Notebook 06 shows the outcomes and why only once every prediction is made.
 """
 
 from __future__ import annotations
@@ -16,39 +17,10 @@ from typing import Any
 __all__ = ["switch_to_trajectory_controller", "recover", "remove_controller", "PREDICTIONS"]
 
 
-# --------------------------------------------------------------------------------------------- 6.1
+# --------------------------------------------------------------------------------------------- 6.4 (first)
 
-
-def switch_to_trajectory_controller(cm: Any) -> None:
-    """The original workshop's sequence: load the joint trajectory controller, configure it, then in one switch
-    deactivate the forward position controller and activate it."""
-    # TODO(task 6.1): three requests, as `ros2 control` would make them: load, configure, switch. Which controllers go
-    #   into the switch, and which strictness makes it all or nothing?
-    raise NotImplementedError("TODO(task 6.1): switch_to_trajectory_controller")
-
-
-# --------------------------------------------------------------------------------------------- 6.2
-
-
-def recover(cm: Any, component: str, controllers: list[str]) -> None:
-    """After ``component`` failed (its read returned ERROR: it is unconfigured, its controllers inactive), bring it
-    back to active and reactivate ``controllers`` in one switch."""
-    # TODO(task 6.2): which state is the component in after a read error (notebook 06 shows it), and which requests take
-    #   it back to active? Only then can its controllers claim its interfaces again.
-    raise NotImplementedError("TODO(task 6.2): recover")
-
-
-# --------------------------------------------------------------------------------------------- 6.3
-
-
-def remove_controller(cm: Any, name: str) -> None:
-    """Take controller ``name`` out of the manager from whatever state it is in."""
-    # TODO(task 6.3): unload refuses an active controller. Look the controller's state up, and walk it down the lifecycle
-    #   as far as needed before unloading it.
-    raise NotImplementedError("TODO(task 6.3): remove_controller")
-
-
-# --------------------------------------------------------------------------------------------- 6.4
+# Predict these first, before you read on here or run anything in notebook 06: the rest of the notebook shows some
+# of the outcomes. Notebook 06's prediction cell grades them and, once every one is made, shows what happened.
 
 # Each request is made on a fresh mock RRBot: joint_state_broadcaster and forward_position_controller active,
 # joint_trajectory_controller loaded and inactive, hardware component 'rrbot' active.
@@ -56,7 +28,8 @@ def remove_controller(cm: Any, name: str) -> None:
 #   controllers / hardware: the states right after it.
 PREDICTIONS: dict[str, dict[str, Any]] = {
     # TODO(task 6.4): predict each request before you run it in notebook 06: replace every None. States are
-    #   "unconfigured", "inactive", "active" or "finalized"; accepted is True or False.
+    #   "unconfigured", "inactive", "active" or "finalized"; accepted is True or False. Each request is one check
+    #   (1 point): all its parts must be right.
     # switch_controllers(activate=[joint_trajectory_controller], strictness="strict")
     "activate_next_to_forward": {
         "accepted": None,
@@ -108,3 +81,37 @@ PREDICTIONS: dict[str, dict[str, Any]] = {
         "hardware": {"rrbot": None},
     },
 }
+
+
+# --------------------------------------------------------------------------------------------- 6.1
+
+
+def switch_to_trajectory_controller(cm: Any) -> None:
+    """The original workshop's sequence: load the joint trajectory controller, configure it, then in one strict switch
+    deactivate the forward position controller and activate it (no cycle may run with neither active; the forward
+    controller ends inactive, still loaded)."""
+    # TODO(task 6.1): three requests, as `ros2 control` would make them: load, configure, switch. Which controllers go
+    #   into the switch, and which strictness makes it all or nothing?
+    raise NotImplementedError("TODO(task 6.1): switch_to_trajectory_controller")
+
+
+# --------------------------------------------------------------------------------------------- 6.2
+
+
+def recover(cm: Any, component: str, controllers: list[str]) -> None:
+    """After ``component`` failed (its read returned ERROR: it is unconfigured, the controllers using it inactive), bring
+    it back to active and reactivate exactly ``controllers`` in one switch; other components and controllers
+    stay as they are."""
+    # TODO(task 6.2): which state is the component in after a read error (notebook 06 shows it), and which requests take
+    #   it back to active? Only then can its controllers claim its interfaces again.
+    raise NotImplementedError("TODO(task 6.2): recover")
+
+
+# --------------------------------------------------------------------------------------------- 6.3
+
+
+def remove_controller(cm: Any, name: str) -> None:
+    """Take controller ``name`` out of the manager from whatever state it is in."""
+    # TODO(task 6.3): look the controller's state up, and walk it down the lifecycle as far as unloading needs (notebook
+    #   06 shows cleanup and unload). Any controller may be named, and the others stay as they were.
+    raise NotImplementedError("TODO(task 6.3): remove_controller")

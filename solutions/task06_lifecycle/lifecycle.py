@@ -5,8 +5,9 @@ Each function gets the running system's controller manager (``system.controller_
 ``switch_controllers``, ``cleanup_controller``, ``unload_controller``, ``set_hardware_component_state`` and the
 ``list_controllers`` / ``list_hardware_components`` introspection.
 
-``PREDICTIONS`` holds what you expect of requests made on a fresh RRBot (notebook 06 lists them); the self-check runs
-each one and tells you which predictions are wrong, not what the right answer is.
+``PREDICTIONS`` (first in this file: make them before anything else) holds what you expect of requests made on a fresh
+RRBot; the self-check runs each one and tells you which parts of each prediction are wrong, not what the right answer
+is. Notebook 06 shows the outcomes and why only once every prediction is made.
 """
 
 from __future__ import annotations
@@ -16,42 +17,10 @@ from typing import Any
 __all__ = ["switch_to_trajectory_controller", "recover", "remove_controller", "PREDICTIONS"]
 
 
-# --------------------------------------------------------------------------------------------- 6.1
+# --------------------------------------------------------------------------------------------- 6.4 (first)
 
-
-def switch_to_trajectory_controller(cm: Any) -> None:
-    """The original workshop's sequence: load the joint trajectory controller, configure it, then in one switch
-    deactivate the forward position controller and activate it."""
-    cm.load_controller("joint_trajectory_controller")
-    cm.set_controller_state("joint_trajectory_controller", "inactive")
-    cm.switch_controllers(activate=["joint_trajectory_controller"], deactivate=["forward_position_controller"],
-                          strictness="strict")
-
-
-# --------------------------------------------------------------------------------------------- 6.2
-
-
-def recover(cm: Any, component: str, controllers: list[str]) -> None:
-    """After ``component`` failed (its read returned ERROR: it is unconfigured, its controllers inactive), bring it
-    back to active and reactivate ``controllers`` in one switch."""
-    cm.set_hardware_component_state(component, "active")
-    cm.switch_controllers(activate=controllers, strictness="strict")
-
-
-# --------------------------------------------------------------------------------------------- 6.3
-
-
-def remove_controller(cm: Any, name: str) -> None:
-    """Take controller ``name`` out of the manager from whatever state it is in."""
-    state = next(c.state for c in cm.list_controllers() if c.name == name)
-    if state == "active":
-        cm.switch_controllers(deactivate=[name], strictness="strict")
-    if state in ("active", "inactive"):
-        cm.cleanup_controller(name)
-    cm.unload_controller(name)
-
-
-# --------------------------------------------------------------------------------------------- 6.4
+# Predict these first, before you read on here or run anything in notebook 06: the rest of the notebook shows some
+# of the outcomes. Notebook 06's prediction cell grades them and, once every one is made, shows what happened.
 
 # Each request is made on a fresh mock RRBot: joint_state_broadcaster and forward_position_controller active,
 # joint_trajectory_controller loaded and inactive, hardware component 'rrbot' active.
@@ -109,3 +78,40 @@ PREDICTIONS: dict[str, dict[str, Any]] = {
         "hardware": {"rrbot": "active"},
     },
 }
+
+
+# --------------------------------------------------------------------------------------------- 6.1
+
+
+def switch_to_trajectory_controller(cm: Any) -> None:
+    """The original workshop's sequence: load the joint trajectory controller, configure it, then in one strict switch
+    deactivate the forward position controller and activate it (no cycle may run with neither active; the forward
+    controller ends inactive, still loaded)."""
+    cm.load_controller("joint_trajectory_controller")
+    cm.set_controller_state("joint_trajectory_controller", "inactive")
+    cm.switch_controllers(activate=["joint_trajectory_controller"], deactivate=["forward_position_controller"],
+                          strictness="strict")
+
+
+# --------------------------------------------------------------------------------------------- 6.2
+
+
+def recover(cm: Any, component: str, controllers: list[str]) -> None:
+    """After ``component`` failed (its read returned ERROR: it is unconfigured, the controllers using it inactive), bring
+    it back to active and reactivate exactly ``controllers`` in one switch; other components and controllers
+    stay as they are."""
+    cm.set_hardware_component_state(component, "active")
+    cm.switch_controllers(activate=controllers, strictness="strict")
+
+
+# --------------------------------------------------------------------------------------------- 6.3
+
+
+def remove_controller(cm: Any, name: str) -> None:
+    """Take controller ``name`` out of the manager from whatever state it is in."""
+    state = next(c.state for c in cm.list_controllers() if c.name == name)
+    if state == "active":
+        cm.switch_controllers(deactivate=[name], strictness="strict")
+    if state in ("active", "inactive"):
+        cm.cleanup_controller(name)
+    cm.unload_controller(name)

@@ -1,27 +1,37 @@
 """Grader of task 6: the lifecycle of controllers and hardware, driven through the controller manager.
 
-The specification (``lifecycle.py`` of the task folder), each function run on a fresh mock RRBot:
+The specification (``lifecycle.py`` of the task folder and notebook 06), each function run on a fresh mock RRBot:
 
 * ``switch_to_trajectory_controller(cm)``: with the broadcaster and the forward position controller active and the
-  trajectory controller not loaded, load and configure the trajectory controller and switch to it in one switch, so
-  that no cycle runs with neither controller active;
-* ``recover(cm, component, controllers)``: after the component failed in ``read`` (unconfigured, its controllers
-  inactive), make it active again and reactivate the given controllers;
-* ``remove_controller(cm, name)``: unload a controller from whatever state it is in (active, inactive, unconfigured);
-* ``PREDICTIONS``: for each request of :data:`REQUESTS`, whether it is accepted and every state right after; checked
-  against the running system without the right answer being shown.
+  trajectory controller not loaded, load and configure the trajectory controller, then deactivate the forward
+  controller and activate the trajectory controller in ONE strict switch, so that no cycle runs with neither active
+  and the forward controller ends inactive (still loaded);
+* ``recover(cm, component, controllers)``: after ``component`` failed in ``read`` (unconfigured, the controllers using
+  it inactive), make it active again and reactivate exactly the given controllers; other components and controllers
+  are left as they were (tried on one RRBot and on the second of two RRBots);
+* ``remove_controller(cm, name)``: unload a controller from whatever state it is in (active, inactive, unconfigured),
+  leaving the others as they were;
+* ``PREDICTIONS``: for each request of :data:`REQUESTS`, whether it is accepted and every state right after; one check
+  per prediction, run against the running system; a failed check says which parts are wrong, never the answer.
+
+:func:`show_predictions` is the notebook's view of the same: it grades the learner's predictions and, only once every
+one is made, shows what each request really did and why.
 """
 
 from __future__ import annotations
 
+import inspect
 from collections.abc import Callable, Iterator
 from pathlib import Path
 from types import ModuleType
 from typing import Any
 
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 import rrbot_workshop as rw
+from rrbot_workshop.controller_manager.switch import normalize_strictness
 from rrbot_workshop.course.grading import graded
 from rrbot_workshop.exceptions import RRBotWorkshopError
 from rrbot_workshop.middleware.lifecycle import ReturnType
@@ -30,6 +40,7 @@ from rrbot_workshop.msgs import Float64MultiArray
 TASK = 6
 FILE = "lifecycle.py"
 JSB, FWD, JTC = "joint_state_broadcaster", "forward_position_controller", "joint_trajectory_controller"
+STATES = ("unconfigured", "inactive", "active", "finalized")
 
 #: name -> the request, made on a fresh system with JSB and forward active and the JTC inactive
 REQUESTS: dict[str, Callable[[Any], Any]] = {
@@ -43,6 +54,68 @@ REQUESTS: dict[str, Callable[[Any], Any]] = {
     "cleanup_an_inactive_controller": lambda cm: cm.cleanup_controller(JTC),
 }
 
+#: name -> (the rule to think about, where Jazzy says so, how to see it): the three hint levels of its check.
+PREDICTION_HINTS: dict[str, tuple[str, str, str]] = {
+    "activate_next_to_forward": (
+        "Both robot controllers claim joint1/position and joint2/position; only one controller can hold a command "
+        "interface at a time.",
+        "A switch that activates a controller whose command interfaces another active controller holds, without "
+        "deactivating that one in the same switch, is a conflict; a strict switch changes nothing when any part fails.",
+        "After your predictions are graded, notebook 06's prediction cell shows what the request did and why.",
+    ),
+    "activate_next_to_forward_best_effort": (
+        "best_effort drops the parts of a switch that cannot be done; is a claimed command interface such a part?",
+        "In Jazzy best_effort drops the requests that fail the name and state checks (an unknown controller, one in "
+        "the wrong state); the interface check after them (a command interface claimed and not freed by the switch) "
+        "rejects the switch whatever the strictness.",
+        "After your predictions are graded, notebook 06's prediction cell shows what the request did and why.",
+    ),
+    "configure_an_active_controller": (
+        "configure is a transition of the lifecycle: from which states does the controller manager allow it?",
+        "Jazzy's configure_controller refuses an active (or finalized) controller; an inactive one is cleaned up and "
+        "configured again, an unconfigured one is configured.",
+        "After your predictions are graded, notebook 06's prediction cell shows what the request did and why.",
+    ),
+    "unload_an_active_controller": (
+        "Can a controller that is running in the control loop be taken out of the manager?",
+        "Jazzy's unload_controller refuses an active controller (deactivate it first); an inactive one is cleaned up "
+        "on the way out.",
+        "After your predictions are graded, notebook 06's prediction cell shows what the request did and why.",
+    ),
+    "deactivate_the_hardware": (
+        "Does set_hardware_component_state change the controllers, or only the component?",
+        "In Jazzy set_hardware_component_state drives the component alone; the controllers' states are not touched.",
+        "After your predictions are graded, notebook 06's prediction cell shows what the request did and why.",
+    ),
+    "switch_on_unconfigured_hardware": (
+        "Two requests: the first takes the component to unconfigured; can a controller then claim its interfaces?",
+        "An unconfigured component's interfaces are unavailable, so a strict switch that activates a controller "
+        "needing them is rejected; the controllers' states are not touched by the hardware request.",
+        "After your predictions are graded, notebook 06's prediction cell shows what the request did and why.",
+    ),
+    "cleanup_an_inactive_controller": (
+        "cleanup is the way back down the lifecycle from inactive.",
+        "cleanup_controller takes an inactive controller to unconfigured (it refuses an active one).",
+        "After your predictions are graded, notebook 06's prediction cell shows what the request did and why.",
+    ),
+}
+
+#: name -> why the request does what it does (shown by :func:`show_predictions`, only once every prediction is made).
+EXPLANATIONS: dict[str, str] = {
+    "activate_next_to_forward": "the forward controller holds joint1/position and joint2/position; a strict switch "
+    "that does not deactivate it in the same request is rejected as a whole.",
+    "activate_next_to_forward_best_effort": "in Jazzy an interface conflict rejects the switch whatever the "
+    "strictness; best_effort drops only requests that fail the name and state checks (unknown, wrong state).",
+    "configure_an_active_controller": "configure refuses an active controller (an inactive one would be cleaned up "
+    "and configured again).",
+    "unload_an_active_controller": "unload refuses an active controller: deactivate it first.",
+    "deactivate_the_hardware": "set_hardware_component_state drives the component only: the controllers stay active "
+    "(an inactive component is read, not written).",
+    "switch_on_unconfigured_hardware": "the hardware request succeeds, but an unconfigured component's interfaces are "
+    "unavailable, so the strict switch is rejected and nothing changes; the controllers keep their states.",
+    "cleanup_an_inactive_controller": "cleanup takes an inactive controller back to unconfigured.",
+}
+
 
 @pytest.fixture(scope="module")
 def learner(task_file: Callable[[int, str], Path]) -> Iterator[ModuleType]:
@@ -53,8 +126,9 @@ def learner(task_file: Callable[[int, str], Path]) -> Iterator[ModuleType]:
     yield module
 
 
-def _system(inactive: tuple[str, ...] = ()) -> rw.System:
-    return rw.bringup("rrbot", "rrbot_controllers.yaml", spawn=[JSB, FWD], inactive=list(inactive), name="task06_grader")
+def _system(inactive: tuple[str, ...] = (), spawn: tuple[str, ...] = (JSB, FWD)) -> rw.System:
+    return rw.bringup("rrbot", "rrbot_controllers.yaml", spawn=list(spawn), inactive=list(inactive),
+                      name="task06_grader")
 
 
 def _states(system: rw.System) -> tuple[dict[str, str], dict[str, str]]:
@@ -70,110 +144,352 @@ def _call(learner: ModuleType, name: str, *args: Any) -> None:
     try:
         fn(*args)
     except NotImplementedError as exc:
-        pytest.fail(f"{name}() is not written yet ({exc})", pytrace=False)
-    except RRBotWorkshopError as exc:
-        pytest.fail(f"{name}() made a request the controller manager refused: {str(exc).splitlines()[0]}",
-                    pytrace=False)
+        pytest.fail(f"{name}() in {FILE} is not written yet ({exc})", pytrace=False)
+
+
+def _shown(args: tuple[Any, ...]) -> str:
+    return ", ".join(repr(a) for a in args)
+
+
+def _fail_read_once(system: rw.System, component: str) -> None:
+    hardware = system.resource_manager.get_component(component).impl
+    original = hardware.read
+    failed = [False]
+
+    def read_once_error(time: float, period: float) -> ReturnType:
+        if not failed[0]:
+            failed[0] = True
+            return ReturnType.ERROR
+        return original(time, period)
+
+    hardware.read = read_once_error
 
 
 # --------------------------------------------------------------------------------------------- 6.1
 
 
-@graded(points=3, hint=(
-    "Task 6.1: load, configure, then ONE switch that deactivates the forward controller and activates the trajectory "
-    "controller: no cycle may run with neither, and the forward controller must end inactive (not unloaded).",
-    "cm.load_controller(name), cm.set_controller_state(name, 'inactive') (or configure_controller), then "
-    "cm.switch_controllers(activate=[...], deactivate=[...], strictness='strict').",
-    "cm.switch_controllers(activate=['joint_trajectory_controller'], deactivate=['forward_position_controller'], "
-    "strictness='strict')",
-))
-def test_switch_to_trajectory_controller(learner: ModuleType) -> None:
+def _switch_run(learner: ModuleType) -> tuple[dict[str, str], list[dict[str, Any]], list[int]]:
+    """Run switch_to_trajectory_controller on a fresh RRBot: (states after, the switches made, active count per cycle)."""
     with _system() as system:
         cm = system.controller_manager
         commanded: list[int] = []
-        system.controller_manager.add_cycle_hook(lambda t, p: commanded.append(
+        cm.add_cycle_hook(lambda t, p: commanded.append(
             sum(c.state == "active" for c in cm.list_controllers() if c.name in (FWD, JTC))))
         system.spin(0.05)
-        switches: list[tuple[list[str], list[str]]] = []
-        original = cm.switch_controllers
-
-        def recorded(activate: Any = (), deactivate: Any = (), *args: Any, **kwargs: Any) -> Any:
-            switches.append((list(activate), list(deactivate)))
-            return original(activate, deactivate, *args, **kwargs)
-
-        cm.switch_controllers = recorded  # type: ignore[method-assign]
+        switches = _spy_switches(cm)
         _call(learner, "switch_to_trajectory_controller", cm)
         system.spin(0.05)
-        controllers, _ = _states(system)
-        assert controllers == {JSB: "active", FWD: "inactive", JTC: "active"}, f"states after: {controllers}"
-        assert switches and any(JTC in a and FWD in d for a, d in switches), (
-            f"the switches made were {switches}: deactivate the forward controller and activate the trajectory "
-            "controller in the same switch"
-        )
-        assert 0 not in commanded, "a control cycle ran with neither robot controller active"
+        return _states(system)[0], switches, commanded
+
+
+def _spy_switches(cm: Any) -> list[dict[str, Any]]:
+    """Record every switch the learner asks of ``cm``: activate, deactivate and strictness, however they are passed."""
+    switches: list[dict[str, Any]] = []
+    original = cm.switch_controllers
+    signature = inspect.signature(original)
+
+    def recorded(*args: Any, **kwargs: Any) -> Any:
+        bound = signature.bind(*args, **kwargs)
+        bound.apply_defaults()
+        switches.append({"activate": list(bound.arguments["activate"] or ()),
+                         "deactivate": list(bound.arguments["deactivate"] or ()),
+                         "strictness": _effective(cm, bound.arguments["strictness"])})
+        return original(*bound.args, **bound.kwargs)
+
+    cm.switch_controllers = recorded
+    return switches
+
+
+def _effective(cm: Any, strictness: Any) -> str:
+    """The strictness a switch runs with: the manager's default for None or 0, else the name of the value given."""
+    if strictness is None or strictness == 0:
+        return str(cm.default_strictness)
+    try:
+        return normalize_strictness(strictness)
+    except RRBotWorkshopError:
+        return repr(strictness)
+
+
+def _strict(strictness: str) -> bool:
+    return strictness == "strict"
+
+
+@graded(points=1, hint=(
+    "Task 6.1: afterwards the trajectory controller is active, the forward controller inactive (still loaded, not "
+    "unloaded) and the broadcaster still active.",
+    "cm.load_controller(name), then cm.configure_controller(name) (or cm.set_controller_state(name, 'inactive')), then "
+    "a switch that activates the trajectory controller and deactivates the forward controller.",
+    "cm.load_controller('joint_trajectory_controller'); cm.configure_controller('joint_trajectory_controller'); "
+    "cm.switch_controllers(activate=['joint_trajectory_controller'], deactivate=['forward_position_controller'], "
+    "strictness='strict')",
+))
+def test_switch_end_states(learner: ModuleType) -> None:
+    controllers, _, _ = _switch_run(learner)
+    wanted = {JSB: "active", FWD: "inactive", JTC: "active"}
+    assert controllers == wanted, (f"after switch_to_trajectory_controller() in {FILE} the controllers are "
+                                   f"{controllers}; the task asks for {wanted}")
+
+
+@graded(points=1, hint=(
+    "Task 6.1: ONE switch deactivates the forward controller and activates the trajectory controller, and it is "
+    "strict: all or nothing.",
+    "cm.switch_controllers(activate=[...], deactivate=[...], strictness='strict'); the default strictness is "
+    "best_effort (Jazzy's defaults.switch_controller.strictness).",
+    "cm.switch_controllers(activate=['joint_trajectory_controller'], deactivate=['forward_position_controller'], "
+    "strictness='strict')",
+))
+def test_one_strict_switch(learner: ModuleType) -> None:
+    _, switches, _ = _switch_run(learner)
+    both = [s for s in switches if JTC in s["activate"] and FWD in s["deactivate"]]
+    assert both, (f"the switches {FILE} made were {[(s['activate'], s['deactivate']) for s in switches]}: deactivate the "
+                  "forward controller and activate the trajectory controller in the same switch")
+    assert all(_strict(s["strictness"]) for s in both), (
+        f"the switch of {FILE} that exchanges the controllers has strictness {both[0]['strictness']!r}; the task asks "
+        "for a strict switch (all or nothing)")
+
+
+@graded(points=1, hint=(
+    "Task 6.1: no control cycle may run with neither robot controller active: the arm would be left without a "
+    "command.",
+    "Do not deactivate the forward controller in one request and activate the trajectory controller in a later one; "
+    "and do not run cycles (cm.update) inside your function.",
+    "cm.switch_controllers(activate=['joint_trajectory_controller'], deactivate=['forward_position_controller'], "
+    "strictness='strict')",
+))
+def test_no_cycle_without_a_robot_controller(learner: ModuleType) -> None:
+    _, _, commanded = _switch_run(learner)
+    assert 0 not in commanded, (f"during switch_to_trajectory_controller() in {FILE} a control cycle ran with neither "
+                                "robot controller active")
+    assert 2 not in commanded, "a control cycle ran with both robot controllers active"
 
 
 # --------------------------------------------------------------------------------------------- 6.2
 
 
-@graded(points=3, hint=(
-    "Task 6.2: after a read error the component is unconfigured (Jazzy's on_error) and its controllers inactive; "
-    "bring the component back to active first, then the controllers.",
-    "cm.set_hardware_component_state(component, 'active') goes through configure and activate; then one switch "
-    "activates the controllers.",
-    "cm.set_hardware_component_state(component, 'active'); cm.switch_controllers(activate=controllers, strictness='strict')",
+def _recover_single(learner: ModuleType, controllers: list[str], spawn: tuple[str, ...]) -> None:
+    with _system(spawn=spawn) as system:
+        cm = system.controller_manager
+        _fail_read_once(system, "rrbot")
+        system.spin(0.05)
+        before = _states(system)
+        assert before[1] == {"rrbot": "unconfigured"}, f"the grader's read error did not take effect: {before}"
+        call = f"recover(cm, 'rrbot', {controllers})"
+        switches = _spy_switches(cm)
+        _call(learner, "recover", cm, "rrbot", list(controllers))
+        after = _states(system)
+        together = [s for s in switches if set(controllers) <= set(s["activate"])]
+        assert together, (f"{call} in {FILE} made the switches {[s['activate'] for s in switches]}; the task asks to "
+                          f"activate {controllers} in one switch")
+        assert after[1] == {"rrbot": "active"}, f"after {call} in {FILE} the hardware is {after[1]}, not active"
+        wanted = {n: ("active" if n in controllers else s) for n, s in before[0].items()}
+        assert after[0] == wanted, f"after {call} in {FILE} the controllers are {after[0]}; expected {wanted}"
+        if FWD in controllers:
+            system.publish(f"/{FWD}/commands", Float64MultiArray(data=[0.4, -0.2]))
+            system.spin(0.05)
+            position = list(system.latest("/joint_states").position)
+            assert all(abs(q - g) < 1e-6 for q, g in zip(position, [0.4, -0.2], strict=False)), (
+                f"after {call} a command [0.4, -0.2] left the joints at {position}: the robot does not move again")
+
+
+@graded(points=1, hint=(
+    "Task 6.2: after a read error the component is unconfigured (Jazzy's on_error succeeded) and the controllers "
+    "using it inactive; first the component goes back to active.",
+    "cm.set_hardware_component_state(component, 'active') goes through configure and activate.",
+    "cm.set_hardware_component_state(component, 'active')",
 ))
-def test_recover_after_a_read_error(learner: ModuleType) -> None:
+def test_recover_the_hardware(learner: ModuleType) -> None:
     with _system() as system:
         cm = system.controller_manager
-        hardware = system.resource_manager.get_component("rrbot").impl
-        original = hardware.read
-        failed = [False]
-
-        def read_once_error(time: float, period: float) -> ReturnType:
-            if not failed[0]:
-                failed[0] = True
-                return ReturnType.ERROR
-            return original(time, period)
-
-        hardware.read = read_once_error
+        _fail_read_once(system, "rrbot")
         system.spin(0.05)
-        assert _states(system) == ({JSB: "inactive", FWD: "inactive"}, {"rrbot": "unconfigured"})
         _call(learner, "recover", cm, "rrbot", [JSB, FWD])
-        assert _states(system) == ({JSB: "active", FWD: "active"}, {"rrbot": "active"}), _states(system)
-        system.publish(f"/{FWD}/commands", Float64MultiArray(data=[0.4, -0.2]))
+        hardware = _states(system)[1]
+        assert hardware == {"rrbot": "active"}, (f"after recover(cm, 'rrbot', [...]) in {FILE} the hardware is "
+                                                 f"{hardware}, not active")
+
+
+@graded(points=1, hint=(
+    "Task 6.2: once the component is active, exactly the controllers you are given are activated again, in one switch "
+    "(a controller not in the list stays inactive); "
+    "the robot then moves again.",
+    "cm.switch_controllers(activate=controllers, strictness='strict') after the hardware request (a switch before it "
+    "is rejected: the interfaces are unavailable).",
+    "cm.set_hardware_component_state(component, 'active'); cm.switch_controllers(activate=controllers, "
+    "strictness='strict')",
+))
+def test_recover_the_controllers(learner: ModuleType) -> None:
+    _recover_single(learner, [JSB, FWD], (JSB, FWD))
+    _recover_single(learner, [FWD, JSB], (JSB, FWD))
+    _recover_single(learner, [JSB], (JSB, FWD))
+    _recover_single(learner, [JSB, JTC], (JSB, JTC))
+
+
+@graded(points=1, hint=(
+    "Task 6.2: use the arguments: the component and the controllers are whatever the caller names (here the second of "
+    "two RRBots, r2_rrbot); the other robot keeps running untouched.",
+    "No fixed 'rrbot' or controller names in recover(): component and controllers come in as arguments.",
+    "cm.set_hardware_component_state(component, 'active'); cm.switch_controllers(activate=controllers, "
+    "strictness='strict')",
+))
+def test_recover_another_robot(learner: ModuleType) -> None:
+    r1, r2 = "r1_forward_position_controller", "r2_forward_position_controller"
+    with rw.bringup("multi_rrbot", "multi_rrbot_controllers.yaml", xacro_args={"use_mock_hardware": True},
+                    spawn=[JSB, r1, r2], name="task06_grader_two") as system:
+        cm = system.controller_manager
+        _fail_read_once(system, "r2_rrbot")
         system.spin(0.05)
-        assert system.latest("/joint_states").position == pytest.approx([0.4, -0.2]), "the robot does not move again"
+        before = _states(system)
+        call = f"recover(cm, 'r2_rrbot', [{JSB!r}, {r2!r}])"
+        _call(learner, "recover", cm, "r2_rrbot", [JSB, r2])
+        after = _states(system)
+        wanted = ({JSB: "active", r1: "active", r2: "active"}, {"r1_rrbot": "active", "r2_rrbot": "active"})
+        left = [f"{n} {s}" for n, s in {**after[0], **after[1]}.items() if s != "active"]
+        left += [f"{n} unloaded" for n in [*wanted[0], *wanted[1]] if n not in {**after[0], **after[1]}]
+        assert after == wanted, (f"two RRBots, r2_rrbot failed in read: {call} in {FILE} left {', '.join(left)}; "
+                                 "every component and controller must be active again")
+        assert before[1]["r1_rrbot"] == "active", "the grader's read error touched r1_rrbot"
 
 
 # --------------------------------------------------------------------------------------------- 6.3
 
 
-@graded(points=3, hint=(
-    "Task 6.3: a controller can be unloaded only when it is not active; an inactive one is cleaned up on the way. "
-    "Your function must work from active, inactive and unconfigured.",
-    "Look up its state with cm.list_controllers(); deactivate an active one with a switch, cleanup_controller an "
-    "inactive one, then unload_controller.",
-    "if state == 'active': cm.switch_controllers(deactivate=[name], strictness='strict'); ...; cm.unload_controller(name)",
+def _setup_controllers(cm: Any, states: dict[str, str]) -> None:
+    """Bring FWD and JTC (loaded by the caller where wanted) to the given states; both cannot be active."""
+    for name, state in states.items():
+        if state == "unloaded":
+            continue
+        cm.load_controller(name)
+        if state in ("inactive", "active"):
+            cm.configure_controller(name)
+        if state == "active":
+            cm.switch_controllers(activate=[name], strictness="strict")
+
+
+def _differences(before: dict[str, str], after: dict[str, str]) -> str:
+    """What changed from ``before`` to ``after``, controller by controller ("x inactive (was active)")."""
+    changed = [f"{n} {after.get(n, 'unloaded')} (was {s})" for n, s in before.items() if after.get(n, "unloaded") != s]
+    changed += [f"{n} {s} (was not loaded)" for n, s in after.items() if n not in before]
+    return ", ".join(changed) or "nothing changed"
+
+
+def _remove_case(learner: ModuleType, name: str, states: dict[str, str]) -> str:
+    """'' if remove_controller(name) did right from these states, else what went wrong (in the learner's terms).
+
+    An exception of the learner's code goes through to the check, which shows it first.
+    """
+    with rw.bringup("rrbot", "rrbot_controllers.yaml", spawn=[JSB], name="task06_grader") as system:
+        cm = system.controller_manager
+        _setup_controllers(cm, states)
+        before, _ = _states(system)
+        fn = getattr(learner, "remove_controller", None)
+        if not callable(fn):
+            pytest.fail(f"{FILE} has no function remove_controller()", pytrace=False)
+        try:
+            fn(cm, name)
+        except NotImplementedError as exc:
+            pytest.fail(f"remove_controller() in {FILE} is not written yet ({exc})", pytrace=False)
+        after, _ = _states(system)
+        call = f"remove_controller(cm, {name!r}) with {name} {before[name]}"
+        if name in after:
+            return f"{call} left it loaded ({after[name]})"
+        others = {n: s for n, s in before.items() if n != name}
+        if {n: s for n, s in after.items()} != others:
+            return f"{call} changed the others: {_differences(others, after)}; they must stay as they were"
+        topics = [t for t, _ in system.bus.topic_names_and_types() if t.startswith(f"/{name}/")]
+        if topics:
+            return f"{call} left its topics {topics}"
+        return ""
+
+
+def _remove_from(learner: ModuleType, state: str) -> None:
+    cases = {"active": [(FWD, {FWD: "active", JTC: "inactive"}), (JTC, {JTC: "active", FWD: "unconfigured"}),
+                        (JSB, {FWD: "active"})],
+             "inactive": [(JTC, {FWD: "active", JTC: "inactive"}), (FWD, {FWD: "inactive"})],
+             "unconfigured": [(JTC, {FWD: "active", JTC: "unconfigured"}), (FWD, {FWD: "unconfigured", JTC: "active"})]}
+    for name, states in cases[state]:
+        problem = _remove_case(learner, name, states)
+        if problem:
+            pytest.fail(problem, pytrace=False)
+
+
+@graded(points=1, hint=(
+    "Task 6.3: remove_controller() must take an active controller out of the manager too, and leave the other "
+    "controllers as they were.",
+    "Unload refuses an active controller: look its state up in cm.list_controllers(); "
+    "cm.switch_controllers(deactivate=[name], strictness='strict'), then cm.unload_controller(name).",
+    "if state == 'active': cm.switch_controllers(deactivate=[name], strictness='strict')",
 ))
-def test_remove_a_controller_from_any_state(learner: ModuleType) -> None:
-    for name, setup in ((FWD, None), (JTC, "inactive"), (JTC, "unconfigured")):
-        with _system(inactive=(JTC,)) as system:
-            cm = system.controller_manager
-            if setup == "unconfigured":
-                cm.cleanup_controller(JTC)
-            _call(learner, "remove_controller", cm, name)
-            controllers, _ = _states(system)
-            assert name not in controllers, f"{name} ({setup or 'active'}) is still loaded: {controllers}"
-            assert controllers.get(JSB) == "active", "removing one controller must leave the others as they were"
-            topics = [t for t, _ in system.bus.topic_names_and_types() if t.startswith(f"/{name}/")]
-            assert not topics, f"{name}'s topics are still there: {topics}"
+def test_remove_an_active_controller(learner: ModuleType) -> None:
+    _remove_from(learner, "active")
+
+
+@graded(points=1, hint=(
+    "Task 6.3: remove_controller() must take an inactive controller (configured, not running) out of the manager, "
+    "and leave the other controllers as they were.",
+    "An inactive controller can be unloaded as it is (Jazzy cleans it up on the way); cm.unload_controller(name), "
+    "optionally after cm.cleanup_controller(name).",
+    "if state == 'inactive': cm.cleanup_controller(name)  # optional; then cm.unload_controller(name)",
+))
+def test_remove_an_inactive_controller(learner: ModuleType) -> None:
+    _remove_from(learner, "inactive")
+
+
+@graded(points=1, hint=(
+    "Task 6.3: remove_controller() must take an unconfigured controller (loaded, not configured) out of the "
+    "manager, and leave the other controllers as they were.",
+    "An unconfigured controller is unloaded as it is: cleanup refuses a controller that is not inactive. Only call "
+    "cm.cleanup_controller(name) when it is inactive; then cm.unload_controller(name).",
+    "if state in ('active', 'inactive'): cm.cleanup_controller(name)\ncm.unload_controller(name)",
+))
+def test_remove_an_unconfigured_controller(learner: ModuleType) -> None:
+    _remove_from(learner, "unconfigured")
+
+
+@graded(points=1, hint=(
+    "Task 6.3: remove_controller() must work whichever controller it is given and whatever state it and the others "
+    "are in.",
+    "Read the state of the named controller (not of a fixed one) from cm.list_controllers() and walk it down: "
+    "deactivate if active, then unload.",
+    "state = next(c.state for c in cm.list_controllers() if c.name == name)",
+))
+def test_remove_controller_generated(learner: ModuleType) -> None:
+    problems: list[str] = []
+    pairs = [(f, j) for f in ("unloaded", "unconfigured", "inactive", "active")
+             for j in ("unloaded", "unconfigured", "inactive", "active") if not (f == j == "active")]
+
+    @settings(derandomize=True, database=None, deadline=None, max_examples=12,
+              suppress_health_check=list(HealthCheck))
+    @given(pair=st.sampled_from(pairs), which=st.sampled_from([JSB, FWD, JTC]))
+    def scenario(pair: tuple[str, str], which: str) -> None:
+        states = {FWD: pair[0], JTC: pair[1]}
+        if which != JSB and states[which] == "unloaded":
+            states[which] = "inactive"
+        try:
+            problem = _remove_case(learner, which, states)
+        except pytest.fail.Exception as exc:
+            problem = str(exc)
+        except Exception as exc:  # noqa: BLE001 - reported below with the smallest case that raises it
+            before = ", ".join(f"{n} {s}" for n, s in {JSB: "active", **states}.items() if s != "unloaded")
+            problem = (f"remove_controller(cm, {which!r}) with {before} raised {type(exc).__name__}: "
+                       + " ".join(line.strip() for line in str(exc).splitlines()))
+        if problem:
+            problems[:] = [problem]
+        assert not problem
+
+    first = _remove_case(learner, FWD, {FWD: "active", JTC: "unloaded"})
+    if first:
+        pytest.fail(first, pytrace=False)
+    try:
+        scenario()
+    except AssertionError:
+        pytest.fail(f"the smallest case that tells your remove_controller() from the task: {problems[0]}", pytrace=False)
 
 
 # --------------------------------------------------------------------------------------------- 6.4
 
 
-def _run_request(name: str) -> dict[str, Any]:
+def run_request(name: str) -> dict[str, Any]:
+    """What request ``name`` really does on a fresh RRBot: accepted, and every state right after."""
     with _system(inactive=(JTC,)) as system:
         try:
             REQUESTS[name](system.controller_manager)
@@ -184,35 +500,85 @@ def _run_request(name: str) -> dict[str, Any]:
     return {"accepted": accepted, "controllers": controllers, "hardware": hardware}
 
 
-def _differences(predicted: Any, actual: dict[str, Any]) -> list[str]:
+def missing_parts(predicted: Any) -> list[str]:
+    """The parts of a prediction still to be made (``None`` or absent)."""
+    if not isinstance(predicted, dict):
+        return ["the whole prediction (a dict with 'accepted', 'controllers' and 'hardware')"]
+    missing = [] if isinstance(predicted.get("accepted"), bool) else ["accepted (True or False)"]
+    for part, names in (("controllers", (JSB, FWD, JTC)), ("hardware", ("rrbot",))):
+        given_part = predicted.get(part) if isinstance(predicted.get(part), dict) else {}
+        missing += [f"the state of {n}" for n in names if given_part.get(n) is None]
+    return missing
+
+
+def wrong_parts(predicted: Any, actual: dict[str, Any]) -> list[str]:
+    """The parts of a prediction that differ from what happened, named without giving the right value."""
     if not isinstance(predicted, dict):
         return ["no prediction (a dict with 'accepted', 'controllers' and 'hardware')"]
     wrong = []
     if predicted.get("accepted") is not actual["accepted"]:
         wrong.append("whether it is accepted")
     for part in ("controllers", "hardware"):
-        given = predicted.get(part) or {}
+        given_part = predicted.get(part) if isinstance(predicted.get(part), dict) else {}
         for name in actual[part]:
-            if given.get(name) != actual[part][name]:
-                wrong.append(f"the state of {name}")
+            value = given_part.get(name)
+            if value != actual[part][name]:
+                wrong.append(f"the state of {name}" + (f" ({value!r} is not a state)" if value is not None
+                                                       and value not in STATES else ""))
     return wrong
 
 
-@graded(points=6, hint=(
-    "Task 6.4: predict each request in notebook 06 before running it; the self-check says which parts of a prediction "
-    "are wrong, never the right answer.",
-    "Rules to use: interface conflicts are errors whatever the strictness; only an unconfigured controller can be "
-    "configured and only a non-active one unloaded; hardware state changes do not touch the controllers; an "
-    "unconfigured component's interfaces are unavailable; cleanup takes an inactive controller to unconfigured.",
-    "Run each request in the notebook's last section and read the states it prints.",
-))
-def test_predictions(learner: ModuleType) -> None:
+def _prediction_check(learner: ModuleType, name: str) -> None:
     predictions = getattr(learner, "PREDICTIONS", None)
     if not isinstance(predictions, dict):
         pytest.fail(f"{FILE} has no PREDICTIONS dict", pytrace=False)
-    wrong = {}
+    predicted = predictions.get(name)
+    missing = missing_parts(predicted)
+    if missing:
+        pytest.fail(f"PREDICTIONS['{name}'] in {FILE} is not made yet: {', '.join(missing)}", pytrace=False)
+    wrong = wrong_parts(predicted, run_request(name))
+    assert not wrong, f"PREDICTIONS['{name}'] in {FILE} is wrong in: {', '.join(wrong)}"
+
+
+def _prediction_test(name: str, points: float = 1) -> Callable[[ModuleType], None]:
+    def test(learner: ModuleType) -> None:
+        _prediction_check(learner, name)
+
+    test.__name__ = f"test_prediction_{name}"
+    test.__doc__ = f"PREDICTIONS['{name}']: accepted, and every state right after."
+    return graded(points=points, hint=PREDICTION_HINTS[name])(test)
+
+
+test_prediction_activate_next_to_forward = _prediction_test("activate_next_to_forward")
+test_prediction_activate_next_to_forward_best_effort = _prediction_test("activate_next_to_forward_best_effort")
+test_prediction_configure_an_active_controller = _prediction_test("configure_an_active_controller")
+test_prediction_unload_an_active_controller = _prediction_test("unload_an_active_controller")
+test_prediction_deactivate_the_hardware = _prediction_test("deactivate_the_hardware")
+test_prediction_switch_on_unconfigured_hardware = _prediction_test("switch_on_unconfigured_hardware")
+test_prediction_cleanup_an_inactive_controller = _prediction_test("cleanup_an_inactive_controller")
+
+
+def show_predictions(predictions: Any) -> None:
+    """Notebook 06's prediction cell: grade the predictions; only once every one is made, show the outcomes and why.
+
+    Until then it names the predictions still to make and shows no outcome, so nothing can be copied before predicting.
+    """
+    predictions = predictions if isinstance(predictions, dict) else {}
+    todo = {name: missing_parts(predictions.get(name)) for name in REQUESTS}
+    todo = {name: parts for name, parts in todo.items() if parts}
+    if todo:
+        print(f"Predict every request first ({len(REQUESTS) - len(todo)} of {len(REQUESTS)} made); still to make:")
+        for name, parts in todo.items():
+            print(f"  {name:<38} {', '.join(parts)}")
+        print("The outcomes and their explanations appear here once every prediction is made.")
+        return
+    right = 0
     for name in REQUESTS:
-        problems = _differences(predictions.get(name), _run_request(name))
-        if problems:
-            wrong[name] = problems
-    assert not wrong, "these predictions are wrong in: " + "; ".join(f"{n}: {', '.join(p)}" for n, p in wrong.items())
+        actual = run_request(name)
+        wrong = wrong_parts(predictions[name], actual)
+        right += not wrong
+        print(f"{name:<38} " + ("right" if not wrong else "wrong in: " + ", ".join(wrong)))
+        print(f"    it was {'accepted' if actual['accepted'] else 'refused'}; controllers {actual['controllers']}, "
+              f"hardware {actual['hardware']}")
+        print(f"    why: {EXPLANATIONS[name]}")
+    print(f"{right} of {len(REQUESTS)} predictions right.")

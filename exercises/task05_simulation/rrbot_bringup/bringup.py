@@ -34,13 +34,20 @@ def start_rrbot_sim(robot_controller: str = "joint_trajectory_controller") -> Sy
             configured, inactive.
 
     Returns:
-        The running system at time 0 [s], with ``joint_state_broadcaster`` and ``robot_controller`` active.
+        The running system at time 0 [s] (not spun), with ``joint_state_broadcaster`` active no later than
+        ``robot_controller`` (before it, or in the same switch), ``robot_controller`` active, and the other controller
+        inactive.
 
     Raises:
-        ParameterError: If ``robot_controller`` is not one of :data:`ROBOT_CONTROLLERS`.
+        ParameterError: If ``robot_controller`` is not one of :data:`ROBOT_CONTROLLERS`; nothing is brought up. Its
+            signature is ``ParameterError(owner, parameter, message)`` (``rrbot_workshop/exceptions.py``), e.g.
+            ``ParameterError("start_rrbot_sim", "robot_controller", "is 'x'; valid choices: [...]")``.
+        Exception: Whatever a step raises once the system is up (a controller that fails to configure, a rejected
+            switch); the system is shut down first, so nothing is left running.
     """
     # TODO(task 5.3): as start_rrbot() of task 2, with the simulator: the description with sim_mujoco, the
     #   simulation's controllers YAML (CONTROLLERS_FILE), the joint state broadcaster first, then the robot controller
-    #   (refuse a name that is not one of ROBOT_CONTROLLERS), the other one loaded and configured but inactive. If a
-    #   step fails after the system is up, shut it down before raising.
+    #   (refuse a name that is not one of ROBOT_CONTROLLERS with ParameterError(owner, parameter, message), before
+    #   anything is up), the other one loaded and configured but inactive. Return the system without spinning it
+    #   (at time 0). If a step fails after the system is up, shut it down before raising.
     raise NotImplementedError("TODO(task 5.3): start_rrbot_sim() - bring the simulated RRBot up")

@@ -34,10 +34,16 @@ def start_rrbot_sim(robot_controller: str = "joint_trajectory_controller") -> Sy
             configured, inactive.
 
     Returns:
-        The running system at time 0 [s], with ``joint_state_broadcaster`` and ``robot_controller`` active.
+        The running system at time 0 [s] (not spun), with ``joint_state_broadcaster`` active no later than
+        ``robot_controller`` (before it, or in the same switch), ``robot_controller`` active, and the other controller
+        inactive.
 
     Raises:
-        ParameterError: If ``robot_controller`` is not one of :data:`ROBOT_CONTROLLERS`.
+        ParameterError: If ``robot_controller`` is not one of :data:`ROBOT_CONTROLLERS`; nothing is brought up. Its
+            signature is ``ParameterError(owner, parameter, message)`` (``rrbot_workshop/exceptions.py``), e.g.
+            ``ParameterError("start_rrbot_sim", "robot_controller", "is 'x'; valid choices: [...]")``.
+        Exception: Whatever a step raises once the system is up (a controller that fails to configure, a rejected
+            switch); the system is shut down first, so nothing is left running.
     """
     if robot_controller not in ROBOT_CONTROLLERS:
         raise ParameterError("start_rrbot_sim", "robot_controller",
