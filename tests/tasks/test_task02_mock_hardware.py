@@ -357,6 +357,13 @@ def test_macro_takes_the_switch_as_parameters(task_file: Callable[[int, str], Pa
                         f"'{undefined.group(1)}': the macro in rrbot_macro.ros2_control.xacro reads $(arg ...) itself; "
                         "take use_mock_hardware and mock_sensor_commands as parameters with default false"
                     )
+                unset = re.search(r"Undefined parameters \[([^\]]*)\]", str(exc))
+                if unset:
+                    _fail(
+                        f"{how}, rrbot_ros2_control leaves the parameter(s) {unset.group(1).replace(',', ', ')} without a value: give the "
+                        "macro's switch parameters defaults in rrbot_macro.ros2_control.xacro (use_mock_hardware:=false "
+                        "mock_sensor_commands:=false)"
+                    )
                 _fail(f"rrbot_ros2_control, called in a robot file of its own, does not expand: {exc}")
             _check_plugin(urdf, expected, how)
             if sensor_commands is not None:

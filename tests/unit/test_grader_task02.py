@@ -105,6 +105,10 @@ WRONG = [
         ('<xacro:if value="${use_mock_hardware}">', '<xacro:if value="$(arg use_mock_hardware)">'),
         ('<xacro:unless value="${use_mock_hardware}">', '<xacro:unless value="$(arg use_mock_hardware)">')]},
             fails={"macro_takes_the_switch_as_parameters"}),
+    Variant("macro_parameters_without_defaults", {TAG: [
+        ("params=\"name prefix use_mock_hardware:=false mock_sensor_commands:=false\"",
+         "params=\"name prefix use_mock_hardware mock_sensor_commands\"")]},
+            fails={"macro_takes_the_switch_as_parameters"}),
     Variant("macro_defaults_to_the_mock", {TAG: [
         ("params=\"name prefix use_mock_hardware:=false", "params=\"name prefix use_mock_hardware:=true")]},
             fails={"macro_takes_the_switch_as_parameters"}),
