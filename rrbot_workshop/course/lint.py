@@ -11,7 +11,8 @@ once instead of one at a time at bringup:
   validations (as generate_parameter_library checks them);
 * keys removed or with changed defaults between Humble and Jazzy;
 * with a description: every interface a controller claims or reads exists in the ``<ros2_control>`` tags
-  (or is a reference interface of another controller in the file).
+  (or is a reference interface of another controller in the file);
+* a description's ``<hardware>`` holds exactly one ``<plugin>`` (Jazzy's parser would silently take the first).
 
 :func:`lint_controllers` returns :class:`Finding` records; the CLI prints them as ``FILE:LINE: level: message``.
 This module reads the files and checks the types and the interfaces; the checks of parameter values are in
@@ -268,9 +269,32 @@ def _parse_description(
     source = str(description)
     try:
         urdf = process_xacro(description, **xacro_args)
-        return urdf, parse_ros2_control(urdf, source=source), []
+        return urdf, parse_ros2_control(urdf, source=source), _plugin_findings(source, urdf)
     except DescriptionError as exc:
         return None, [], [Finding("error", source, 0, exc.element or "description", str(exc))]
+
+
+def _plugin_findings(source: str, urdf: str) -> list[Finding]:
+    """A ``<hardware>`` with more than one ``<plugin>``: Jazzy's parser takes the first and says nothing."""
+    import xml.etree.ElementTree as ET
+
+    from rrbot_workshop.description.urdf_model import local_name
+
+    out = []
+    for tag in ET.fromstring(urdf.lstrip()):
+        if not isinstance(tag.tag, str) or local_name(tag) != "ros2_control":
+            continue
+        for hardware in (c for c in tag if isinstance(c.tag, str) and local_name(c) == "hardware"):
+            names = [(p.text or "").strip() for p in hardware if isinstance(p.tag, str) and local_name(p) == "plugin"]
+            if len(names) > 1:
+                out.append(Finding(
+                    "error", source, 0, f"<ros2_control name='{tag.get('name', '')}'><hardware>",
+                    f"holds {len(names)} <plugin> tags ({', '.join(names)}); a <hardware> block takes exactly one. "
+                    f"Jazzy's parser would silently use the first ({names[0]}) and ignore the rest. With "
+                    "<xacro:if>/<xacro:unless>, check that exactly one branch is taken for every value of its "
+                    "argument",
+                ))
+    return out
 
 
 def lint_description(path: str | Path, xacro_args: Mapping[str, Any] | None = None) -> list[Finding]:

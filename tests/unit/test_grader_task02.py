@@ -1,133 +1,267 @@
-"""The task-2 grader fails wrong solutions: each mutation of the solution fails exactly the checks it should.
+"""The task-2 grader: wrong switches, YAML files and bringups, written as learners get them wrong, lose points; right
+ones written differently from solutions/ get full marks.
 
-Full marks on solutions/ and less on the untouched exercises are checked for every grader in test_graders.py.
+Full marks on solutions/ and 0 on the untouched exercise are checked for every grader in test_graders.py.
 """
 
 from __future__ import annotations
 
-import re
-import shutil
-from pathlib import Path
-
 import pytest
+from grader_variants import Variant, assert_full_marks, assert_loses_points, grade_variants
 
 from rrbot_workshop.course import tracks
-from rrbot_workshop.course.grading import Rubric, grade
+from rrbot_workshop.course.grading import Rubric, plugin
+
+#: Until the grading framework stops cutting reasons at 300 characters (the lead's change of issue 21), a wrong
+#: variant whose reason is the learner's own long exception (a SwitchError listing interfaces) cannot pass the
+#: "reason is whole" part of assert_loses_points; those variants are expected to fail only while that lasts.
+REASONS_CUT = len(getattr(plugin, "_first_line", lambda text, *_: text)("x " * 400)) < 800
+LONG_LEARNER_ERRORS = {"yaml_without_the_trajectory_controller", "forward_controller_on_velocity",
+                       "trajectory_controller_writing_velocity_too"}
 
 HAS_SOLUTIONS = (tracks.course_root() / "solutions").is_dir()
 pytestmark = pytest.mark.skipif(not HAS_SOLUTIONS, reason="this copy of the course has no solutions/")
 
 CONTROLLERS = "rrbot_bringup/config/rrbot_controllers.yaml"
-ROS2_CONTROL = "rrbot_description/urdf/rrbot/rrbot_macro.ros2_control.xacro"
+TAG = "rrbot_description/urdf/rrbot/rrbot_macro.ros2_control.xacro"
+MAIN = "rrbot_description/urdf/rrbot.urdf.xacro"
 BRINGUP = "rrbot_bringup/bringup.py"
 
+JTC_DECLARED = """
+    # Interpolates trajectories received on ~/joint_trajectory (or the follow_joint_trajectory action).
+    joint_trajectory_controller:
+      type: joint_trajectory_controller/JointTrajectoryController
+"""
+JTC_SECTION_START = "\n\njoint_trajectory_controller:\n  ros__parameters:\n"
+BRINGUP_STEPS = """    try:
+        cm.load_controller(robot_controller)
+        cm.configure_controller(robot_controller)
+        cm.switch_controllers(activate=[robot_controller], strictness="strict")
 
-def _failed(rubric: Rubric) -> set[str]:
-    return {c.name for c in rubric.checks if not c.passed}
+        # `spawner <other> --inactive`: ready to be switched to.
+        other = next(name for name in ROBOT_CONTROLLERS if name != robot_controller)
+        cm.load_controller(other)
+        cm.configure_controller(other)
+    except Exception:
+        system.shutdown()
+        raise
+    return system"""
+XACRO_ARGS = 'xacro_args={"use_mock_hardware": use_mock_hardware, "mock_sensor_commands": mock_sensor_commands},'
 
 
-def _mutated(tmp_path: Path, file: str, *substitutions: tuple[str, str]) -> Path:
-    """A copy of the task-2 solution with regex substitutions in one file, each applying once; the task root."""
-    source = tracks.task_dir(2, "solutions")
-    copy = tmp_path / source.name
-    shutil.copytree(source, copy, ignore=shutil.ignore_patterns("__pycache__"))
-    path = copy / file
-    text = path.read_text()
-    for pattern, replacement in substitutions:
-        text, count = re.subn(pattern, replacement, text, flags=re.DOTALL)
-        assert count == 1, f"mutation {pattern!r} did not apply to {path}"
-    path.write_text(text)
-    return tmp_path
+def _without_jtc_section() -> str:
+    text = (tracks.task_dir(2, "solutions") / CONTROLLERS).read_text()
+    return text[: text.index(JTC_SECTION_START)].replace(JTC_DECLARED, "") + "\n"
 
 
-def test_yaml_without_the_trajectory_controller_fails_its_checks(tmp_path: Path) -> None:
-    """No joint_trajectory_controller: its YAML checks fail, and the bringup (which loads it) cannot start."""
-    root = _mutated(
-        tmp_path, CONTROLLERS,
-        (r"\n    # Interpolates trajectories.*?JointTrajectoryController\n", "\n"),
-        (r"\njoint_trajectory_controller:\n.*", "\n"),
+WRONG = [
+    # --- kept from the former mutation tests
+    Variant("yaml_without_the_trajectory_controller", {CONTROLLERS: _without_jtc_section()},
+            fails={"controller_types", "joint_trajectory_controller_interfaces", "joint_trajectory_controller_constraints",
+                   "start_rrbot_activates_controllers", "joint_trajectory_controller_reaches_the_goals",
+                   "parameters_valid_in_jazzy"}),
+    Variant("state_publish_rate_of_humble", {CONTROLLERS: [
+        ("    action_monitor_rate: 20.0", "    state_publish_rate: 50.0\n    action_monitor_rate: 20.0")]},
+            fails={"parameters_valid_in_jazzy"}),
+    Variant("hard_coded_mock_sensor_commands", {TAG: [
+        ('<param name="mock_sensor_commands">${mock_sensor_commands}</param>',
+         '<param name="mock_sensor_commands">false</param>')]},
+            fails={"mock_sensor_commands_reaches_the_mock", "macro_takes_the_switch_as_parameters",
+                   "start_rrbot_passes_mock_sensor_commands"}),
+    Variant("mock_in_both_branches", {TAG: [
+        ("<plugin>controlko_hardware_interface/RRBotHardwareInterface</plugin>",
+         "<plugin>mock_components/GenericSystem</plugin>")]},
+            fails={"use_mock_hardware_switch", "description_defaults_to_the_driver",
+                   "macro_takes_the_switch_as_parameters", "start_rrbot_passes_use_mock_hardware"}),
+    Variant("bringup_without_the_inactive_controller", {BRINGUP: [
+        ("        cm.load_controller(other)\n        cm.configure_controller(other)\n", "")]},
+            fails={"other_controller_loaded_inactive"}),
+    Variant("forward_controller_on_velocity", {CONTROLLERS: [("interface_name: position", "interface_name: velocity")]},
+            fails={"forward_position_controller_parameters", "start_rrbot_activates_controllers",
+                   "forward_command_reaches_the_joints"}),
+    Variant("bringup_ignoring_robot_controller", {BRINGUP: [
+        ("        cm.load_controller(robot_controller)\n        cm.configure_controller(robot_controller)\n"
+         "        cm.switch_controllers(activate=[robot_controller]",
+         "        cm.load_controller(ROBOT_CONTROLLERS[0])\n        cm.configure_controller(ROBOT_CONTROLLERS[0])\n"
+         "        cm.switch_controllers(activate=[ROBOT_CONTROLLERS[0]]")]},
+            fails={"other_controller_loaded_inactive", "joint_trajectory_controller_reaches_the_goals"}),
+    Variant("update_rate_of_10_hz", {CONTROLLERS: [("update_rate: 100", "update_rate: 10")]}, fails={"update_rate"}),
+    Variant("trajectory_controller_writing_velocity_too", {CONTROLLERS: [
+        ("command_interfaces:  # what it writes\n      - position",
+         "command_interfaces:  # what it writes\n      - position\n      - velocity")]},
+            fails={"joint_trajectory_controller_interfaces"}),
+    Variant("partial_goals_allowed", {CONTROLLERS: [("allow_partial_joints_goal: false", "allow_partial_joints_goal: true")]},
+            fails={"joint_trajectory_controller_constraints"}),
+    # --- the switch, both ways, and really passed through
+    Variant("if_without_unless", {TAG: [
+        ("        <xacro:unless value=\"${use_mock_hardware}\">\n          <!-- The real robot's driver (task 7 writes it). -->\n"
+         "          <plugin>controlko_hardware_interface/RRBotHardwareInterface</plugin>\n        </xacro:unless>",
+         "        <plugin>controlko_hardware_interface/RRBotHardwareInterface</plugin>")]},
+            fails={"use_mock_hardware_switch", "macro_takes_the_switch_as_parameters"}),
+    Variant("description_defaults_to_the_mock", {MAIN: [
+        ('<xacro:arg name="use_mock_hardware" default="false" />', '<xacro:arg name="use_mock_hardware" default="true" />')]},
+            fails={"description_defaults_to_the_driver"}),
+    Variant("macro_reads_the_argument_itself", {TAG: [
+        ('<xacro:if value="${use_mock_hardware}">', '<xacro:if value="$(arg use_mock_hardware)">'),
+        ('<xacro:unless value="${use_mock_hardware}">', '<xacro:unless value="$(arg use_mock_hardware)">')]},
+            fails={"macro_takes_the_switch_as_parameters"}),
+    Variant("macro_parameters_without_defaults", {TAG: [
+        ("params=\"name prefix use_mock_hardware:=false mock_sensor_commands:=false\"",
+         "params=\"name prefix use_mock_hardware mock_sensor_commands\"")]},
+            fails={"macro_takes_the_switch_as_parameters"}),
+    Variant("macro_defaults_to_the_mock", {TAG: [
+        ("params=\"name prefix use_mock_hardware:=false", "params=\"name prefix use_mock_hardware:=true")]},
+            fails={"macro_takes_the_switch_as_parameters"}),
+    Variant("bringup_always_on_the_mock", {BRINGUP: [
+        (XACRO_ARGS, 'xacro_args={"use_mock_hardware": True, "mock_sensor_commands": mock_sensor_commands},')]},
+            fails={"start_rrbot_passes_use_mock_hardware"}),
+    Variant("bringup_always_with_sensor_commands", {BRINGUP: [
+        (XACRO_ARGS, 'xacro_args={"use_mock_hardware": use_mock_hardware, "mock_sensor_commands": True},')]},
+            fails={"start_rrbot_passes_mock_sensor_commands"}),
+    # --- the bringup's time and what a failure half-way leaves behind
+    Variant("bringup_waits_like_the_launch_file", {BRINGUP: [
+        ("    cm = system.controller_manager\n", "    system.spin(1.0)  # the launch file's delay\n    cm = system.controller_manager\n")]},
+            fails={"start_rrbot_returns_at_time_zero"}),
+    Variant("bringup_without_cleanup", {BRINGUP: [(BRINGUP_STEPS, """    cm.load_controller(robot_controller)
+    cm.configure_controller(robot_controller)
+    cm.switch_controllers(activate=[robot_controller], strictness="strict")
+    other = next(name for name in ROBOT_CONTROLLERS if name != robot_controller)
+    cm.load_controller(other)
+    cm.configure_controller(other)
+    return system""")]}, fails={"failure_half_way_leaves_nothing_running"}),
+    Variant("bringup_swallowing_the_error", {BRINGUP: [("    except Exception:\n        system.shutdown()\n        raise\n",
+                                                        "    except Exception as exc:\n        print('spawner failed:', exc)\n")]},
+            fails={"failure_half_way_leaves_nothing_running"}),
+    # --- the YAML, each number and order as the task states it
+    Variant("forward_joints_reversed", {CONTROLLERS: [
+        ("forward_position_controller:\n  ros__parameters:\n    joints:\n      - joint1\n      - joint2",
+         "forward_position_controller:\n  ros__parameters:\n    joints:\n      - joint2\n      - joint1")]},
+            fails={"forward_position_controller_parameters", "forward_commands_in_joint_order"}),
+    Variant("update_rate_as_a_float", {CONTROLLERS: [("update_rate: 100", "update_rate: 100.0")]}, fails={"update_rate"}),
+    Variant("goal_time_of_half_a_second", {CONTROLLERS: [("goal_time: 0.0 ", "goal_time: 0.5 ")]},
+            fails={"joint_trajectory_controller_constraints"}),
+    Variant("trajectory_controller_reading_position_only", {CONTROLLERS: [
+        ("state_interfaces:    # what it reads back (feedback and the start of each new trajectory)\n      - position\n"
+         "      - velocity", "state_interfaces:\n      - position")]},
+            fails={"joint_trajectory_controller_interfaces"}),
+]
+
+#: The whole file in flow style, the controllers' own sections first, no comments.
+FLOW_YAML = """\
+forward_position_controller: {ros__parameters: {interface_name: position, joints: [joint1, joint2]}}
+joint_trajectory_controller:
+  ros__parameters: {joints: [joint1, joint2], command_interfaces: [position], state_interfaces: [position, velocity],
+    allow_partial_joints_goal: false, constraints: {goal_time: 0, stopped_velocity_tolerance: 1.0e-2}}
+controller_manager:
+  ros__parameters:
+    joint_trajectory_controller: {type: joint_trajectory_controller/JointTrajectoryController}
+    forward_position_controller: {type: forward_command_controller/ForwardCommandController}
+    joint_state_broadcaster: {type: joint_state_broadcaster/JointStateBroadcaster}
+    update_rate: 100
+"""
+
+#: One rw.bringup call spawning both, the other controller inactive (bringup shuts down what fails itself).
+ONE_CALL_BRINGUP = '''"""start_rrbot in one bringup call."""
+
+from pathlib import Path
+
+import rrbot_workshop as rw
+from rrbot_workshop.exceptions import ParameterError
+
+HERE = Path(__file__).parent
+CHOICES = ["forward_position_controller", "joint_trajectory_controller"]
+
+
+def start_rrbot(robot_controller="forward_position_controller", use_mock_hardware=True, mock_sensor_commands=False):
+    if robot_controller not in CHOICES:
+        raise ParameterError("start_rrbot", "robot_controller", f"must be one of {CHOICES}")
+    (other,) = [c for c in CHOICES if c != robot_controller]
+    return rw.bringup(
+        HERE.parent / "rrbot_description/urdf/rrbot.urdf.xacro",
+        HERE / "config" / "rrbot_controllers.yaml",
+        xacro_args=dict(use_mock_hardware=use_mock_hardware, mock_sensor_commands=mock_sensor_commands),
+        spawn=["joint_state_broadcaster", robot_controller],
+        inactive=[other],
     )
-    rubric = grade(2, task_root=root)
-    assert _failed(rubric) == {
-        "controller_types", "joint_trajectory_controller_interfaces", "joint_trajectory_controller_constraints",
-        "start_rrbot_activates_controllers", "other_controller_loaded_inactive",
-        "start_rrbot_passes_mock_sensor_commands", "forward_command_reaches_the_joints",
-        "joint_trajectory_controller_reaches_the_goals",
-    }, rubric.format()
+'''
+
+#: Steps in a loop, the other controller first, cleanup in a helper.
+LOOP_BRINGUP = '''"""start_rrbot with its spawner steps in a loop."""
+
+from pathlib import Path
+
+from rrbot_workshop.bringup import bringup
+
+ROOT = Path(__file__).resolve().parents[1]
 
 
-def test_state_publish_rate_fails_only_the_jazzy_check(tmp_path: Path) -> None:
-    root = _mutated(
-        tmp_path, CONTROLLERS,
-        (r"    action_monitor_rate: 20\.0", "    state_publish_rate: 50.0\n    action_monitor_rate: 20.0"),
-    )
-    rubric = grade(2, task_root=root)
-    assert _failed(rubric) == {"parameters_valid_in_jazzy"}, rubric.format()
+def _spawn(cm, name, activate):
+    cm.load_controller(name)
+    cm.configure_controller(name)
+    if activate:
+        cm.switch_controllers(activate=[name], strictness="strict")
 
 
-def test_hard_coded_mock_sensor_commands_fails_the_sensor_checks(tmp_path: Path) -> None:
-    root = _mutated(
-        tmp_path, ROS2_CONTROL,
-        (r'<param name="mock_sensor_commands">\$\{mock_sensor_commands\}</param>',
-         '<param name="mock_sensor_commands">false</param>'),
-    )
-    rubric = grade(2, task_root=root)
-    assert _failed(rubric) == {
-        "mock_sensor_commands_reaches_the_mock", "start_rrbot_passes_mock_sensor_commands",
-    }, rubric.format()
+def start_rrbot(robot_controller="forward_position_controller", use_mock_hardware=True, mock_sensor_commands=False):
+    args = {"use_mock_hardware": "true" if use_mock_hardware else "false",
+            "mock_sensor_commands": "true" if mock_sensor_commands else "false"}
+    system = bringup(ROOT / "rrbot_description" / "urdf" / "rrbot.urdf.xacro",
+                     ROOT / "rrbot_bringup" / "config" / "rrbot_controllers.yaml",
+                     xacro_args=args, spawn=["joint_state_broadcaster"])
+    plan = [(name, name == robot_controller)
+            for name in ("joint_trajectory_controller", "forward_position_controller")]
+    try:
+        for name, activate in sorted(plan, key=lambda step: step[1], reverse=True):
+            _spawn(system.controller_manager, name, activate)
+    except BaseException:
+        system.shutdown()
+        raise
+    return system
+'''
+
+#: The plugin chosen by a Python expression; the mock's param under its own xacro:if; properties for the names.
+EXPRESSION_SWITCH = [
+    ("""        <xacro:if value="${use_mock_hardware}">
+          <!-- Mock hardware: each command shows up on the state interface of the same name at the next read. -->
+          <plugin>mock_components/GenericSystem</plugin>""",
+     """        <xacro:property name="mock_plugin" value="mock_components/GenericSystem" />
+        <xacro:property name="robot_plugin" value="controlko_hardware_interface/RRBotHardwareInterface" />
+        <plugin>${mock_plugin if use_mock_hardware else robot_plugin}</plugin>
+        <xacro:if value="${use_mock_hardware}">"""),
+    ("""        <xacro:unless value="${use_mock_hardware}">
+          <!-- The real robot's driver (task 7 writes it). -->
+          <plugin>controlko_hardware_interface/RRBotHardwareInterface</plugin>
+        </xacro:unless>
+""", ""),
+]
+
+RIGHT = [
+    Variant("flow_yaml_other_order", {CONTROLLERS: FLOW_YAML}),
+    Variant("one_bringup_call", {BRINGUP: ONE_CALL_BRINGUP}),
+    Variant("spawner_steps_in_a_loop", {BRINGUP: LOOP_BRINGUP}),
+    Variant("plugin_chosen_by_an_expression", {TAG: EXPRESSION_SWITCH}),
+]
 
 
-def test_mock_without_a_real_hardware_branch_fails_the_switch_check(tmp_path: Path) -> None:
-    root = _mutated(
-        tmp_path, ROS2_CONTROL,
-        (r"<plugin>controlko_hardware_interface/RRBotHardwareInterface</plugin>",
-         "<plugin>mock_components/GenericSystem</plugin>"),
-    )
-    rubric = grade(2, task_root=root)
-    assert _failed(rubric) == {"use_mock_hardware_switch"}, rubric.format()
+@pytest.fixture(scope="module")
+def rubrics(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Rubric]:
+    return grade_variants(2, WRONG + RIGHT, tmp_path_factory.mktemp("task02"))
 
 
-def test_bringup_without_the_inactive_controller_fails_only_that_check(tmp_path: Path) -> None:
-    root = _mutated(
-        tmp_path, BRINGUP, (r"        cm\.load_controller\(other\)\n        cm\.configure_controller\(other\)\n", "")
-    )
-    rubric = grade(2, task_root=root)
-    assert _failed(rubric) == {"other_controller_loaded_inactive"}, rubric.format()
+def _marked(variant: Variant) -> object:
+    marks = [pytest.mark.xfail(REASONS_CUT, strict=True, reason="the framework still cuts reasons at 300 characters")]
+    return pytest.param(variant, id=variant.name, marks=marks if variant.name in LONG_LEARNER_ERRORS else ())
 
 
-def test_forward_controller_on_velocity_fails_its_checks(tmp_path: Path) -> None:
-    """interface_name velocity: RRBot has no velocity command interface, so the controller cannot be activated."""
-    root = _mutated(tmp_path, CONTROLLERS, (r"interface_name: position", "interface_name: velocity"))
-    rubric = grade(2, task_root=root)
-    assert _failed(rubric) == {
-        "forward_position_controller_parameters", "start_rrbot_activates_controllers",
-        "other_controller_loaded_inactive", "start_rrbot_passes_mock_sensor_commands",
-        "forward_command_reaches_the_joints",
-    }, rubric.format()
+@pytest.mark.parametrize("variant", [_marked(v) for v in WRONG])
+def test_wrong_solution_loses_points(rubrics: dict[str, Rubric], variant: Variant) -> None:
+    assert_loses_points(rubrics[variant.name], variant)
 
 
-def test_bringup_ignoring_robot_controller_fails_the_choice_check(tmp_path: Path) -> None:
-    """start_rrbot always activates the forward controller, whatever robot_controller says."""
-    root = _mutated(tmp_path, BRINGUP, (r"cm\.load_controller\(robot_controller\)\n(\s*)cm\.configure_controller\(robot_controller\)"
-                                        r"\n(\s*)cm\.switch_controllers\(activate=\[robot_controller\]",
-                                        "cm.load_controller('forward_position_controller')\\n\\1cm.configure_controller("
-                                        "'forward_position_controller')\\n\\2cm.switch_controllers(activate=['forward_position_controller']"))
-    failed = _failed(grade(2, task_root=root))
-    assert "other_controller_loaded_inactive" in failed and "start_rrbot_activates_controllers" not in failed
+@pytest.mark.parametrize("variant", RIGHT, ids=str)
+def test_alternative_solution_gets_full_marks(rubrics: dict[str, Rubric], variant: Variant) -> None:
+    assert_full_marks(rubrics[variant.name])
 
 
-def test_update_rate_of_10_hz_fails_the_rate_check(tmp_path: Path) -> None:
-    root = _mutated(tmp_path, CONTROLLERS, (r"update_rate: 100", "update_rate: 10"))
-    assert "update_rate" in _failed(grade(2, task_root=root))
-
-
-def test_trajectory_controller_writing_velocity_too_fails_its_interface_check(tmp_path: Path) -> None:
-    """The mock also has velocity command interfaces; the task's trajectory controller commands positions only."""
-    root = _mutated(tmp_path, CONTROLLERS, (r"command_interfaces:  # what it writes\n      - position",
-                                            "command_interfaces:  # what it writes\n      - position\n      - velocity"))
-    assert "joint_trajectory_controller_interfaces" in _failed(grade(2, task_root=root))
-
-
-def test_partial_goals_allowed_fails_the_constraints_check(tmp_path: Path) -> None:
-    root = _mutated(tmp_path, CONTROLLERS, (r"allow_partial_joints_goal: false", "allow_partial_joints_goal: true"))
-    assert "joint_trajectory_controller_constraints" in _failed(grade(2, task_root=root))
+def test_there_are_enough_variants() -> None:
+    assert len(WRONG) >= 12 and len(RIGHT) >= 3

@@ -81,5 +81,6 @@ def start_rrbot(
     #   one switch_controllers call (task 4).
     #
     # If a step after bringup() fails, call system.shutdown() before re-raising, so no half-started system
-    # is left running. Return the system.
+    # is left running. Return the system as soon as the controllers are up, at simulated time 0 s (no spin:
+    # the launch file's delays are not needed here).
     raise NotImplementedError("TODO(task 2.3): start_rrbot() - bring up the RRBot and spawn its controllers")
