@@ -10,14 +10,7 @@ import pytest
 from grader_variants import Variant, assert_full_marks, assert_loses_points, grade_variants
 
 from rrbot_workshop.course import tracks
-from rrbot_workshop.course.grading import Rubric, plugin
-
-#: Until the grading framework stops cutting reasons at 300 characters (the lead's change of issue 21), a wrong
-#: variant whose reason is the learner's own long exception (a SwitchError listing interfaces) cannot pass the
-#: "reason is whole" part of assert_loses_points; those variants are expected to fail only while that lasts.
-REASONS_CUT = len(getattr(plugin, "_first_line", lambda text, *_: text)("x " * 400)) < 800
-LONG_LEARNER_ERRORS = {"yaml_without_the_trajectory_controller", "forward_controller_on_velocity",
-                       "trajectory_controller_writing_velocity_too"}
+from rrbot_workshop.course.grading import Rubric
 
 HAS_SOLUTIONS = (tracks.course_root() / "solutions").is_dir()
 pytestmark = pytest.mark.skipif(not HAS_SOLUTIONS, reason="this copy of the course has no solutions/")
@@ -248,12 +241,7 @@ def rubrics(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Rubric]:
     return grade_variants(2, WRONG + RIGHT, tmp_path_factory.mktemp("task02"))
 
 
-def _marked(variant: Variant) -> object:
-    marks = [pytest.mark.xfail(REASONS_CUT, strict=True, reason="the framework still cuts reasons at 300 characters")]
-    return pytest.param(variant, id=variant.name, marks=marks if variant.name in LONG_LEARNER_ERRORS else ())
-
-
-@pytest.mark.parametrize("variant", [_marked(v) for v in WRONG])
+@pytest.mark.parametrize("variant", WRONG, ids=str)
 def test_wrong_solution_loses_points(rubrics: dict[str, Rubric], variant: Variant) -> None:
     assert_loses_points(rubrics[variant.name], variant)
 
