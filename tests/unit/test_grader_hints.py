@@ -4,12 +4,11 @@ and each level says something the one before did not."""
 from __future__ import annotations
 
 import importlib.util
-from pathlib import Path
 from types import ModuleType
 
 import pytest
 
-from rrbot_workshop.course.grading import grader_path, graded_tasks
+from rrbot_workshop.course.grading import graded_tasks, grader_path
 from rrbot_workshop.course.grading.rubric import check_spec
 
 

@@ -7,10 +7,10 @@ Full marks on solutions/ and 0 on the untouched exercise are checked for every g
 from __future__ import annotations
 
 import pytest
+from grader_variants import Variant, assert_full_marks, assert_loses_points, grade_variants
 
 from rrbot_workshop.course import tracks
 from rrbot_workshop.course.grading import Rubric
-from grader_variants import Variant, assert_full_marks, assert_loses_points, grade_variants
 
 HAS_SOLUTIONS = (tracks.course_root() / "solutions").is_dir()
 pytestmark = pytest.mark.skipif(not HAS_SOLUTIONS, reason="this copy of the course has no solutions/")
