@@ -198,10 +198,11 @@ def _reference_duration(limits: dict[str, dict[str, Any]], move: Move) -> float:
 
 def _expect_value_error(fn: Callable[[], Any], refused: str, name: str | None = None) -> None:
     """``fn()`` must raise ValueError (naming ``name``); other exceptions are the learner's and propagate."""
+    function = refused.split("(", 1)[0]
     try:
         fn()
     except NotImplementedError:
-        _fail(f"your {FILE} is not written yet (it raises NotImplementedError)")
+        _fail(f"{function}() in your {FILE} is not written yet (it raises NotImplementedError)")
     except ValueError as exc:
         if name is not None and name not in str(exc):
             _fail(f"{refused}: your ValueError says {str(exc)!r}, which does not name the joint '{name}'")

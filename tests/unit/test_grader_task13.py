@@ -13,7 +13,7 @@ pytestmark = pytest.mark.skipif(not HAS_SOLUTIONS, reason="this copy of the cour
 
 F = "jerk_limited.py"
 GOAL_CHECK = "        if not low <= g <= high:\n"
-SAMPLING = "    times = [k * sample_period for k in range(math.ceil(duration / sample_period))] + [duration]\n"
+SAMPLING = "    times = [k * sample_period for k in range(math.ceil(duration / sample_period - 1e-9))] + [duration]\n"
 LAST_POINT = ("    points[-1] = JointTrajectoryPoint(positions=list(goal), velocities=[0.0] * n, accelerations=[0.0] * n,\n"
               "                                      time_from_start=duration)\n")
 

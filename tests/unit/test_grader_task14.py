@@ -176,3 +176,64 @@ def test_alternative_prediction_gets_full_marks(rubrics: dict, variant: Variant)
 
 def test_there_are_enough_variants() -> None:
     assert len(WRONG) >= 12 and len(RIGHT) >= 3
+
+
+# ------------------------------------------------------------------------------ predictions before outcomes
+NOTEBOOK = tracks.course_root() / "notebooks" / "14_fault_lab.ipynb"
+
+
+def test_the_stored_notebook_shows_no_outcome() -> None:
+    """The learner's copy of notebook 14 opens with no fault's outcome, timeline or explanation in its outputs."""
+    import json
+
+    from rrbot_workshop.course import fault_lab
+
+    cells = json.loads(NOTEBOOK.read_text())["cells"]
+    text = json.dumps([c.get("outputs", []) for c in cells if c["cell_type"] == "code"])
+    sources = "".join("".join(c["source"]) for c in cells)
+    for fault in fault_lab.FAULTS:
+        assert f'fault_lab.reveal("{fault}")' in sources, f"notebook 14 does not reveal {fault} through fault_lab"
+        assert fault_lab.EXPLANATIONS[fault][:60] not in text + sources, f"the explanation of {fault} is in sight"
+    for outcome_words in ("but it is", "it ends at", "image/png", "image/svg+xml", "Why:"):
+        assert outcome_words not in text, f"a stored output of notebook 14 holds {outcome_words!r}"
+
+
+def test_reveal_runs_nothing_before_the_prediction_is_complete(monkeypatch: pytest.MonkeyPatch,
+                                                               capsys: pytest.CaptureFixture[str]) -> None:
+    from rrbot_workshop.course import fault_lab
+
+    def must_not_run(name: str) -> None:
+        raise AssertionError(f"the fault {name} ran before it was predicted")
+
+    monkeypatch.setattr(fault_lab, "run_fault", must_not_run)
+    half = {"controllers": {"joint_state_broadcaster": "active"}, "hardware": {"rrbot": None}, "joints": [0.2, 0.2]}
+    assert fault_lab.reveal("nan_command", {"nan_command": half}) is None
+    said = capsys.readouterr().out
+    assert "Predict 'nan_command' first" in said and "hardware['rrbot']" in said and "Why:" not in said
+
+
+def test_reveal_grades_the_prediction_then_explains(monkeypatch: pytest.MonkeyPatch,
+                                                    capsys: pytest.CaptureFixture[str]) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from rrbot_workshop.course import fault_lab
+
+    monkeypatch.setattr("matplotlib.pyplot.show", lambda *a, **k: None)
+    guess = {"controllers": {"joint_state_broadcaster": "active", "forward_position_controller": "active",
+                             "joint_trajectory_controller": "inactive"},
+             "hardware": {"rrbot": "active"}, "joints": [0.5, 4.19]}
+    assert fault_lab.reveal("beyond_limits", {"beyond_limits": guess}) is not None
+    said = capsys.readouterr().out
+    assert said.index("Your states: right.") < said.index("joint2: predicted 4.19 rad, it ends at 10.00 rad")
+    assert said.index("it ends at 10.00 rad") < said.index("Why: " + fault_lab.EXPLANATIONS["beyond_limits"][:40])
+
+
+def test_positions_are_compared_to_two_decimals() -> None:
+    from rrbot_workshop.course import fault_lab
+
+    outcome = fault_lab.Outcome({}, {}, [0.5, 4.18879])
+    for right in (4.19, 4.1888, 4.185, 4.193):
+        assert not fault_lab.compare({"controllers": {}, "hardware": {}, "joints": [0.5, right]}, outcome), right
+    for wrong in (4.18, 4.2, 4.19 + 0.0062):
+        assert fault_lab.compare({"controllers": {}, "hardware": {}, "joints": [0.5, wrong]}, outcome), wrong
