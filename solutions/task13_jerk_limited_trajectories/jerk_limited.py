@@ -57,8 +57,8 @@ def plan(
     goal at that duration, not before (ruckig synchronizes the joints by default). No point exceeds a limit by more
     than 1e-6 (in rad/s, rad/s²; the change of acceleration between two points is at most ``max_jerk * dt + 1e-6``).
     Points come at most ``sample_period`` apart, ``ceil(duration / sample_period)`` of them after t = 0 (a point at
-    t = 0 may be added), each with positions, velocities and accelerations of ``joint_names`` in that order; the last
-    is the goal at rest (to 1e-6) at the duration.
+    t = 0 may be added), each with ruckig's positions, velocities and accelerations at its time, for ``joint_names``
+    in that order; the last is the goal at rest (to 1e-6) at the duration.
 
     Args:
         urdf: The robot's URDF (its ``<limit>`` tags bound positions and velocities).

@@ -14,6 +14,8 @@ The specification (``jerk_limited.py``, its docstrings and TODOs, and notebook 1
     acceleration and jerk limits: it lasts ruckig's duration (to 1e-6 s);
   - respects every limit at every point (to 1e-6 in the limit's unit; the jerk as the change of acceleration between
     consecutive points, at most ``max_jerk * dt + 1e-6``);
+  - is one motion: each point's positions, velocities and accelerations are ruckig's at its time (between two points
+    the state follows from the first within what ``max_jerk`` allows, to 1e-6);
   - synchronizes the joints: each joint that moves arrives at its goal at the end of the move, not before (ruckig's
     default); a joint at rest at its goal (within 1e-9 rad and 1e-9 rad/s) before the last sample period is not
     synchronized;
@@ -251,7 +253,7 @@ def _sampling_problem(points: list[Any], move: Move) -> str | None:
 
 
 def _limits_problem(points: list[Any], move: Move, lims: dict[str, Any]) -> str | None:
-    for k, p in enumerate(points):
+    for p in points:
         for j, joint in enumerate(move.joints):
             vmax = lims[joint].max_velocity
             if not abs(p.velocities[j]) <= vmax + LIMIT_TOL:
@@ -268,6 +270,23 @@ def _limits_problem(points: list[Any], move: Move, lims: dict[str, Any]) -> str 
                 return (f"{move}: between {_num(a.time_from_start)} s and {_num(b.time_from_start)} s the acceleration "
                         f"of {joint} changes by {_num(change)} rad/s², a jerk of {_num(change / dt)} rad/s³, beyond "
                         "max_jerk")
+    return None
+
+
+def _motion_problem(points: list[Any], move: Move) -> str | None:
+    """Positions, velocities and accelerations must be one jerk-limited motion: between two points, the position and
+    velocity reached follow from the first point's state within what max_jerk allows (Taylor's bound)."""
+    for a, b in zip(points, points[1:], strict=False):
+        dt = b.time_from_start - a.time_from_start
+        for j, joint in enumerate(move.joints):
+            p = a.positions[j] + a.velocities[j] * dt + a.accelerations[j] * dt**2 / 2
+            v = a.velocities[j] + a.accelerations[j] * dt
+            if abs(b.positions[j] - p) > move.jerk * dt**3 / 6 + LIMIT_TOL or \
+                    abs(b.velocities[j] - v) > move.jerk * dt**2 / 2 + LIMIT_TOL:
+                return (f"{move}: {joint} from {_num(a.time_from_start)} s to {_num(b.time_from_start)} s "
+                        f"({_num(a.positions[j])} rad, {_num(a.velocities[j])} rad/s, {_num(a.accelerations[j])} rad/s² "
+                        f"to {_num(b.positions[j])} rad, {_num(b.velocities[j])} rad/s) is no motion within max_jerk: "
+                        "give each point ruckig's state at its time")
     return None
 
 
@@ -438,6 +457,18 @@ def test_limits_respected(learner: ModuleType, urdfs: dict[str, str], limits: di
 
 
 @graded(points=2, hint=(
+    "Task 13.2: the JTC interpolates between points with quintics from their positions, velocities and accelerations: "
+    "they must be ruckig's, all three at the point's time, so that the JTC follows ruckig's motion.",
+    "trajectory.at_time(t) returns (positions, velocities, accelerations) at t; use all three, at the same t as "
+    "time_from_start.",
+    "position, velocity, acceleration = trajectory.at_time(t)\n"
+    "JointTrajectoryPoint(positions=list(position), velocities=list(velocity), accelerations=list(acceleration), "
+    "time_from_start=t)"))
+def test_points_carry_the_motion(learner: ModuleType, urdfs: dict[str, str]) -> None:
+    _each_move(learner, urdfs, _motion_problem)
+
+
+@graded(points=2, hint=(
     "Task 13.2: a jerk-limited move of several joints is synchronized: every joint arrives at its goal at the same "
     "time, the slower joints' duration. ruckig does it when it plans all joints in one InputParameter with its default "
     "synchronization; planning each joint alone lets the short moves end early.",
@@ -536,7 +567,7 @@ def test_generated_moves_match_ruckig(learner: ModuleType, urdfs: dict[str, str]
         expected = _reference_duration(limits, move)
         for problem in (_duration_problem(points, move, expected), _sync_problem(points, move),
                         _limits_problem(points, move, limits[move.robot]), _sampling_problem(points, move),
-                        _end_problem(points, move)):
+                        _end_problem(points, move), _motion_problem(points, move)):
             if problem:
                 raise _Differs(problem)
 
@@ -550,7 +581,7 @@ def test_generated_moves_match_ruckig(learner: ModuleType, urdfs: dict[str, str]
             exc.__notes__ = [f"on the generated move {found[0] if found else '?'}"]
         raise
     if differs:
-        _fail(f"On generated moves, the smallest that differs from ruckig's is {differs}")
+        _fail(f"Smallest generated move unlike ruckig's: {differs}")
 
 
 class _Differs(Exception):

@@ -4,9 +4,9 @@ full marks. Each is a copy of solutions/task13_jerk_limited_trajectories with ch
 from __future__ import annotations
 
 import pytest
+from grader_variants import Variant, assert_full_marks, assert_loses_points, grade_variants
 
 from rrbot_workshop.course import tracks
-from grader_variants import Variant, assert_full_marks, assert_loses_points, grade_variants
 
 HAS_SOLUTIONS = (tracks.course_root() / "solutions").is_dir()
 pytestmark = pytest.mark.skipif(not HAS_SOLUTIONS, reason="this copy of the course has no solutions/")
@@ -82,6 +82,10 @@ WRONG = [
         "        points.append(JointTrajectoryPoint(positions=list(position), time_from_start=t))\n"), (
         LAST_POINT, "    points[-1] = JointTrajectoryPoint(positions=list(goal), time_from_start=duration)\n")]},
         fails={"limits_respected", "ends_at_the_goal_at_rest"}),
+    Variant("velocities_left_at_zero", {F: [("velocities=list(velocity),", "velocities=[0.0] * n,")]},
+            fails={"points_carry_the_motion", "generated_moves_match_ruckig"}),
+    Variant("states_one_sample_late", {F: [("trajectory.at_time(t)", "trajectory.at_time(max(0.0, t - sample_period))")]},
+            fails={"points_carry_the_motion"}),
     Variant("no_point_at_the_duration", {F: [(SAMPLING,
         "    times = [k * sample_period for k in range(math.ceil(duration / sample_period))]\n"), (LAST_POINT, "")]},
         fails={"ends_at_the_goal_at_rest", "time_optimal"}),

@@ -5,8 +5,8 @@ copy of solutions/task14_fault_lab with changes (see grader_variants.py)."""
 from __future__ import annotations
 
 import pytest
-
 from grader_variants import Variant, assert_full_marks, assert_loses_points, grade_variants
+
 from rrbot_workshop.course import tracks
 
 HAS_SOLUTIONS = (tracks.course_root() / "solutions").is_dir()
