@@ -302,7 +302,7 @@ def plot_timeline(outcome: Outcome, title: str = "") -> Any:
     """
     import matplotlib.pyplot as plt
 
-    fig, (top, bottom) = plt.subplots(2, 1, figsize=(8, 4.6), sharex=True, height_ratios=[1, 1.2])
+    fig, (top, bottom) = plt.subplots(2, 1, figsize=(10, 4.6), sharex=True, height_ratios=[1, 1.2])
     if outcome.timeline:
         names = list(outcome.timeline[0][1])
         t0 = outcome.timeline[0][0]
@@ -313,7 +313,7 @@ def plot_timeline(outcome: Outcome, title: str = "") -> Any:
             top.step(times, levels, where="post", label=name.replace("hw:", "[hw] "))
         top.set_yticks(list(_LEVELS.values()), list(_LEVELS))
         top.set_ylim(-0.5, 3.5)
-        top.legend(fontsize=7, loc="lower left", ncol=2)
+        top.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     if outcome.positions:
         t0 = outcome.positions[0][0]
         times = [t - t0 for t, _, _ in outcome.positions]
@@ -328,7 +328,7 @@ def plot_timeline(outcome: Outcome, title: str = "") -> Any:
             text = "[" + ", ".join("nan" if math.isnan(v) else f"{v:g}" for v in outcome.sent) + "]"
             bottom.annotate(f"sent at 0.5 s: {text}", (0.99, 0.04), xycoords="axes fraction", ha="right", fontsize=8)
         bottom.set_ylabel("position [rad]")
-        bottom.legend(fontsize=7, loc="upper left", ncol=3)
+        bottom.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     bottom.axvline(0.5, color="red", lw=0.8, ls="--")
     top.axvline(0.5, color="red", lw=0.8, ls="--")
     bottom.set_xlabel("time [s] (the fault at 0.5 s, red)")

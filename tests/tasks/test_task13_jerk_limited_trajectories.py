@@ -41,7 +41,7 @@ from types import ModuleType
 from typing import Any
 
 import pytest
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
 import rrbot_workshop as rw
@@ -62,6 +62,8 @@ TIME_TOL = 1e-6
 SAMPLE_TOL = 1e-9
 REST_TOL = 1e-9
 FINAL_TOL = 1e-3
+#: Calls of the learner's plan() the shrinking of a generated failure may take (bounds the grading time).
+SHRINK_BUDGET = 25
 
 #: A second description: other joint names, other limits, a continuous joint (no position limits) and a fixed joint.
 PAN_TILT = """<?xml version="1.0"?>
@@ -213,22 +215,30 @@ def _expect_value_error(fn: Callable[[], Any], refused: str, name: str | None = 
 
 
 # ---------------------------------------------------------------------------------------------- what a plan must be
-def _points(traj: Any, move: Move) -> list[Any]:
-    """The trajectory's points, after checking its shape (joint names, one value per joint in each field)."""
+def _shape_problem(traj: Any, move: Move) -> str | None:
+    """What is wrong with the trajectory's shape (joint names, one value per joint in each field), or None."""
     names = list(getattr(traj, "joint_names", None) or [])
     if names != list(move.joints):
-        _fail(f"{move}: the trajectory's joint_names are {names}; they must be the joints asked, in that order")
+        return f"{move}: the trajectory's joint_names are {names}; they must be the joints asked, in that order"
     points = list(getattr(traj, "points", None) or [])
     if not points:
-        _fail(f"{move}: the trajectory has no points")
+        return f"{move}: the trajectory has no points"
     n = len(move.joints)
     for k, p in enumerate(points):
         for field in ("positions", "velocities", "accelerations"):
             values = list(getattr(p, field, None) or [])
             if len(values) != n:
-                _fail(f"{move}: point {k} has {len(values)} {field} for {n} joint(s); every point must carry "
-                      "positions, velocities and accelerations, so the JTC follows ruckig's motion (quintic splines)")
-    return points
+                return (f"{move}: point {k} has {len(values)} {field} for {n} joint(s); every point must carry "
+                        "positions, velocities and accelerations, so the JTC follows ruckig's motion (quintic splines)")
+    return None
+
+
+def _points(traj: Any, move: Move) -> list[Any]:
+    """The trajectory's points, after checking its shape."""
+    problem = _shape_problem(traj, move)
+    if problem:
+        _fail(problem)
+    return list(traj.points)
 
 
 def _sampling_problem(points: list[Any], move: Move) -> str | None:
@@ -514,31 +524,32 @@ def test_time_optimal(learner: ModuleType, urdfs: dict[str, str], limits: dict[s
             _fail(problem)
 
 
-def _positions(draw: st.DrawFn, lims: list[Any]) -> tuple[float, ...]:
-    values = []
-    for lim in lims:
-        low, high = lim.min_position, lim.max_position
-        grid = st.integers(math.ceil(low / 0.05), math.floor(high / 0.05)).map(lambda k: round(k * 0.05, 2))
-        values.append(draw(st.one_of(grid, st.sampled_from([low, high]))))
-    return tuple(values)
+def _candidates(lim: Any) -> list[float]:
+    """Positions a generated move may use for a joint: a 0.05 rad grid from 0 outwards, then the limits themselves."""
+    grid = sorted((round(k * 0.05, 2) for k in range(math.ceil(lim.min_position / 0.05),
+                                                     math.floor(lim.max_position / 0.05) + 1)), key=abs)
+    return [*grid, lim.max_position, lim.min_position]
 
 
 def _moves(limits: dict[str, dict[str, Any]]) -> st.SearchStrategy[Move]:
     """Moves the task allows: either description, one or two joints in any order, goals up to the limits, at least
-    one joint moving."""
+    one joint moving. Each choice is one draw, and the simplest is a brisk move of RRBot's joint1 from 0."""
+    orders = {"RRBot": [("joint1",), ("joint1", "joint2"), ("joint2",), ("joint2", "joint1")],
+              "pan-tilt": [("pan",), ("tilt", "pan"), ("tilt",), ("pan", "tilt")]}
+    positions = {robot: {j: _candidates(lim) for j, lim in lims.items() if lim.has_position_limits}
+                 for robot, lims in limits.items()}
 
     @st.composite
     def moves(draw: st.DrawFn) -> Move:
         robot = draw(st.sampled_from(["RRBot", "pan-tilt"]))
-        names = ["joint1", "joint2"] if robot == "RRBot" else ["pan", "tilt"]
-        joints = tuple(draw(st.permutations(names))[: draw(st.integers(1, 2))])
-        lims = [limits[robot][j] for j in joints]
-        start = _positions(draw, lims)
-        goal = _positions(draw, lims)
+        joints = draw(st.sampled_from(orders[robot]))
+        start = tuple(draw(st.sampled_from(positions[robot][j])) for j in joints)
+        goal = tuple(draw(st.sampled_from(positions[robot][j])) for j in joints)
         if all(abs(g - s) < 0.01 for g, s in zip(goal, start, strict=True)):  # a move moves something
-            goal = (start[0] + (0.05 if start[0] + 0.05 <= lims[0].max_position else -0.05), *start[1:])
-        acc = draw(st.integers(2, 40)) * 0.5
-        jerk = draw(st.integers(1, 40)) * 2.5
+            room = limits[robot][joints[0]].max_position
+            goal = (start[0] + (0.05 if start[0] + 0.05 <= room else -0.05), *start[1:])
+        acc = 20.0 - draw(st.integers(0, 38)) * 0.5
+        jerk = 100.0 - draw(st.integers(0, 39)) * 2.5
         period = draw(st.sampled_from([None, 0.02, 0.005, 0.025]))
         return Move(robot, joints, start, goal, acc, jerk, period)
 
@@ -556,32 +567,67 @@ def _moves(limits: dict[str, dict[str, Any]]) -> st.SearchStrategy[Move]:
     "joints, times from sample_period and trajectory.duration."))
 def test_generated_moves_match_ruckig(learner: ModuleType, urdfs: dict[str, str],
                                       limits: dict[str, dict[str, Any]]) -> None:
-    found: list[str] = []
+    seen: dict[Move, Exception] = {}  # the failures found, by move: replayed as they were
+    failed: list[Move] = []  # every failing move tried; the smallest (see _size) is reported
+    calls = {"plan": 0, "first_failure": -1}
 
-    @settings(derandomize=True, database=None, deadline=None, max_examples=30,
+    @settings(derandomize=True, database=None, deadline=None, max_examples=20,
               suppress_health_check=list(HealthCheck))
     @given(_moves(limits))
+    @example(Move("RRBot", ("joint1",), (0.0,), (0.05,), 20.0, 100.0))  # small moves first: reported as they are
+    @example(Move("RRBot", ("joint1", "joint2"), (0.0, 0.0), (0.1, 0.05), 20.0, 100.0))
+    @example(Move("pan-tilt", ("tilt",), (0.0,), (-0.4,), 20.0, 100.0, 0.02))
+    @example(Move("pan-tilt", ("tilt", "pan"), (0.0, 0.0), (-0.5, 0.4), 20.0, 100.0, 0.005))
     def same_as_ruckig(move: Move) -> None:
-        found[:] = [str(move)]
-        points = _points(_plan(learner, urdfs, move), move)
-        expected = _reference_duration(limits, move)
-        for problem in (_duration_problem(points, move, expected), _sync_problem(points, move),
-                        _limits_problem(points, move, limits[move.robot]), _sampling_problem(points, move),
-                        _end_problem(points, move), _motion_problem(points, move)):
+        if move in seen:
+            raise seen[move]
+        if calls["first_failure"] >= 0 and calls["plan"] - calls["first_failure"] >= SHRINK_BUDGET:
+            raise _Enough  # stops Hypothesis at once (not an Exception): the smallest failure so far is reported
+        calls["plan"] += 1
+        try:
+            traj = _plan(learner, urdfs, move)
+            problem = _shape_problem(traj, move)
+            if problem is None:
+                points = list(traj.points)
+                problems = (_duration_problem(points, move, _reference_duration(limits, move)),
+                            _sync_problem(points, move), _limits_problem(points, move, limits[move.robot]),
+                            _sampling_problem(points, move), _end_problem(points, move), _motion_problem(points, move))
+                problem = next((p for p in problems if p), None)
             if problem:
                 raise _Differs(problem)
+        except Exception as exc:  # a difference, or the learner's error on a move the task allows
+            if calls["first_failure"] < 0:
+                calls["first_failure"] = calls["plan"]
+            if not isinstance(exc, _Differs):
+                exc.add_note(f"on the generated move {move}")
+            seen[move] = exc
+            failed.append(move)
+            raise
 
-    differs = ""
     try:
         same_as_ruckig()
-    except _Differs as exc:
-        differs = str(exc)
-    except Exception as exc:  # the learner's error on a move the task allows: shown as it is, with the move
-        if hasattr(exc, "__notes__"):
-            exc.__notes__ = [f"on the generated move {found[0] if found else '?'}"]
-        raise
-    if differs:
-        _fail(f"Smallest generated move unlike ruckig's: {differs}")
+        return
+    except _Enough:
+        pass
+    except Exception as exc:  # Hypothesis's report of the failures: replaced by the smallest failure itself
+        if not failed:
+            raise
+        del exc
+    smallest: Exception = seen[min(failed, key=_size)]
+    if isinstance(smallest, _Differs):
+        _fail(f"Smallest generated move unlike ruckig's: {smallest}")
+    smallest.__notes__ = [n for n in getattr(smallest, "__notes__", []) if n.startswith("on the generated move")][-1:]
+    raise smallest  # the learner's own error, on the smallest move that raised it
+
+
+def _size(move: Move) -> tuple[Any, ...]:
+    """How big a move is to read: fewer joints, RRBot, the default period, a shorter way, brisker limits first."""
+    way = sum(abs(g - s) for g, s in zip(move.goal, move.start, strict=True))
+    return (len(move.joints), move.robot != "RRBot", move.period is not None, round(way, 6), -move.acc, -move.jerk)
+
+
+class _Enough(BaseException):  # noqa: N818 - a signal, like StopIteration
+    """Ends the shrinking of a generated failure (a BaseException, so Hypothesis does not take it as a failure)."""
 
 
 class _Differs(Exception):
