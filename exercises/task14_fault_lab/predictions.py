@@ -3,7 +3,8 @@
 Every fault starts from the same mock RRBot: broadcaster and forward position controller active, trajectory
 controller inactive, the joints commanded to [0.2, 0.2]. Then the fault, then 2 s of simulated time.
 Predict, for each fault, the state of every controller and of the hardware component afterwards, and the joint
-positions the last /joint_states message reports.
+positions the last /joint_states message reports, in rad, to 2 decimals (a position within 0.005 rad of what happens
+counts as right). Each fault's states earn a point, and its positions another.
 """
 
 from __future__ import annotations
@@ -13,8 +14,9 @@ from typing import Any
 __all__ = ["PREDICTIONS"]
 
 # TODO(task 14): replace every None: a state ("unconfigured", "inactive", "active", "finalized") or a position in
-#   rad. Reason from what you know of the controller manager and the lifecycle, write your prediction, then run the
-#   fault in notebook 14 and compare. The self-check only looks at your predictions.
+#   rad, to 2 decimals. Reason from what you know of the controller manager and the lifecycle and write your
+#   prediction; notebook 14 runs a fault and explains it only once you have predicted it. The self-check only says
+#   which parts of your predictions are wrong, never the answer.
 PREDICTIONS: dict[str, dict[str, Any]] = {
     # the hardware's read() returns ERROR once
     "read_error": {

@@ -23,6 +23,9 @@ __all__ = ["joint_limits", "plan"]
 def joint_limits(urdf: str, joint_names: Sequence[str]) -> dict[str, tuple[float, float, float]]:
     """``{joint: (min_position [rad], max_position [rad], max_velocity [rad/s])}`` from the description.
 
+    For any description and any of its joints, in the order asked; the values are those of the joints' URDF
+    ``<limit>`` as parsed for ``<ros2_control>`` (the self-check compares them to 1e-9).
+
     Raises:
         ValueError: If a joint is in no ``<ros2_control>`` tag, or has no position or velocity limit.
     """
@@ -49,6 +52,14 @@ def plan(
 ) -> JointTrajectory:
     """A jerk-limited move from rest at ``start`` to rest at ``goal``, all joints arriving together.
 
+    The move is ruckig's time-optimal one within the description's velocity limits and the given acceleration and jerk
+    limits: it lasts ruckig's duration (the self-check compares it to 1e-6 s). Every joint that moves arrives at its
+    goal at that duration, not before (ruckig synchronizes the joints by default). No point exceeds a limit by more
+    than 1e-6 (in rad/s, rad/s²; the change of acceleration between two points is at most ``max_jerk * dt + 1e-6``).
+    Points come at most ``sample_period`` apart, ``ceil(duration / sample_period)`` of them after t = 0 (a point at
+    t = 0 may be added), each with ruckig's positions, velocities and accelerations at its time, for ``joint_names``
+    in that order; the last is the goal at rest (to 1e-6) at the duration.
+
     Args:
         urdf: The robot's URDF (its ``<limit>`` tags bound positions and velocities).
         joint_names: Joints to move.
@@ -59,8 +70,8 @@ def plan(
         sample_period: Time between trajectory points in [s].
 
     Raises:
-        ValueError: If the lists' lengths differ, a goal is outside its joint's position limits, or ruckig finds no
-            trajectory.
+        ValueError: If the lists' lengths differ, a goal is outside its joint's position limits (below the lower or
+            above the upper; a goal at a limit is within them), naming the joint, or ruckig finds no trajectory.
     """
     n = len(joint_names)
     if not (len(start) == len(goal) == n):
@@ -81,7 +92,7 @@ def plan(
     if result not in (Result.Working, Result.Finished):
         raise ValueError(f"ruckig found no trajectory: {result.name}")
     duration = trajectory.duration
-    times = [k * sample_period for k in range(math.ceil(duration / sample_period))] + [duration]
+    times = [k * sample_period for k in range(math.ceil(duration / sample_period - 1e-9))] + [duration]
     points = []
     for t in times[1:]:
         position, velocity, acceleration = trajectory.at_time(t)
