@@ -33,7 +33,7 @@ from typing import Any
 
 import pytest
 import yaml
-from hypothesis import HealthCheck, Phase, given, settings
+from hypothesis import HealthCheck, Phase, example, given, settings
 from hypothesis import strategies as st
 
 import rrbot_workshop as rw
@@ -315,9 +315,12 @@ def test_activate_chain_from_any_state(controllers_file: Path, chain: ModuleType
     with _system(controllers_file, [JSB], inactive=CHAIN) as system:
         cm = system.controller_manager
 
-        @settings(derandomize=True, database=None, deadline=None, max_examples=12,
+        @settings(derandomize=True, database=None, deadline=None, max_examples=8,
                   suppress_health_check=list(HealthCheck), phases=NO_EXPLAIN)
         @given(_starting_states())
+        @example(dict.fromkeys(CHAIN, "active"))
+        @example({JTC: "inactive", PIDS[0]: "active", PIDS[1]: "active"})
+        @example(dict.fromkeys(CHAIN, "unloaded"))
         def scenario(start: dict[str, str]) -> None:
             _set_states(cm, start)
             with _SwitchSpy(cm) as spy:
@@ -390,9 +393,12 @@ def test_deactivate_chain_from_any_state(controllers_file: Path, chain: ModuleTy
     with _system(controllers_file, [JSB], inactive=CHAIN) as system:
         cm = system.controller_manager
 
-        @settings(derandomize=True, database=None, deadline=None, max_examples=12,
+        @settings(derandomize=True, database=None, deadline=None, max_examples=8,
                   suppress_health_check=list(HealthCheck), phases=NO_EXPLAIN)
         @given(_starting_states())
+        @example(dict.fromkeys(CHAIN, "active"))
+        @example({JTC: "inactive", PIDS[0]: "active", PIDS[1]: "active"})
+        @example(dict.fromkeys(CHAIN, "unloaded"))
         def scenario(start: dict[str, str]) -> None:
             _set_states(cm, start)
             with _SwitchSpy(cm) as spy:
