@@ -316,7 +316,7 @@ def test_activate_chain_from_any_state(controllers_file: Path, chain: ModuleType
         cm = system.controller_manager
 
         @settings(derandomize=True, database=None, deadline=None, max_examples=8,
-                  suppress_health_check=list(HealthCheck), phases=NO_EXPLAIN)
+                  suppress_health_check=list(HealthCheck), phases=NO_EXPLAIN, report_multiple_bugs=False)
         @given(_starting_states())
         @example(dict.fromkeys(CHAIN, "active"))
         @example({JTC: "inactive", PIDS[0]: "active", PIDS[1]: "active"})
@@ -394,7 +394,7 @@ def test_deactivate_chain_from_any_state(controllers_file: Path, chain: ModuleTy
         cm = system.controller_manager
 
         @settings(derandomize=True, database=None, deadline=None, max_examples=8,
-                  suppress_health_check=list(HealthCheck), phases=NO_EXPLAIN)
+                  suppress_health_check=list(HealthCheck), phases=NO_EXPLAIN, report_multiple_bugs=False)
         @given(_starting_states())
         @example(dict.fromkeys(CHAIN, "active"))
         @example({JTC: "inactive", PIDS[0]: "active", PIDS[1]: "active"})

@@ -248,7 +248,7 @@ def test_description_matches_the_task_for_any_arguments(description_file: Path) 
         return seen[key]
 
     @settings(derandomize=True, database=None, deadline=None, max_examples=8,
-              suppress_health_check=list(HealthCheck), phases=SHRINK_WITHOUT_EXPLAIN)
+              suppress_health_check=list(HealthCheck), phases=SHRINK_WITHOUT_EXPLAIN, report_multiple_bugs=False)
     @given(scenario)
     def compare(args: dict[str, Any]) -> None:
         found = difference(args)
