@@ -52,7 +52,6 @@ TYPES = {FPC: "forward_command_controller/ForwardCommandController",
 POSITION_TOLERANCE = 1e-3
 #: How far a pedestal may stand from +-spacing/2 [m] (the task: "to 1 µm").
 PLACEMENT_TOLERANCE = 1e-6
-MOCK = "mock_components/GenericSystem"
 #: Hypothesis's phases without "explain" (it re-runs the learner's xacro many times only to annotate the failure).
 SHRINK_WITHOUT_EXPLAIN = (Phase.explicit, Phase.generate, Phase.shrink)
 

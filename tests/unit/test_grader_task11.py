@@ -4,10 +4,9 @@ full marks. Each is a copy of ``solutions/`` with exact changes (see ``grader_va
 from __future__ import annotations
 
 import pytest
+from grader_variants import Variant, assert_full_marks, assert_loses_points, grade_variants
 
 from rrbot_workshop.course import tracks
-
-from grader_variants import Variant, assert_full_marks, assert_loses_points, grade_variants
 
 HAS_SOLUTIONS = (tracks.course_root() / "solutions").is_dir()
 pytestmark = pytest.mark.skipif(not HAS_SOLUTIONS, reason="this copy of the course has no solutions/")
