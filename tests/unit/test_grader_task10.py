@@ -122,6 +122,7 @@ diffbot_base_controller:
 RIGHT = [
     Variant("other_order_properties_other_component_names", {XACRO: RIGHT_XACRO}),
     Variant("flow_yaml_defaults_left_out", {YAML: RIGHT_YAML}),
+    Variant("arm_turned_sideways", {XACRO: [('<origin xyz="0.1 0 0" rpy="0 0 0"/>', '<origin xyz="0.1 0 0" rpy="0 0 ${pi/2}"/>')]}),
     Variant("answers_computed", {ANSWERS: (
         '"""Task 10 answers."""\n\nTAGS = ["DiffBot", "RRBot"]\nHARDWARE_COMPONENTS = len(TAGS)\n'
         'PLUGINS_PER_ROS2_CONTROL_TAG = 1\nCONTROLLER_MANAGERS = int(1.0)\n')}),

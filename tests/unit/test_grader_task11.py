@@ -159,6 +159,7 @@ RIGHT = [
     Variant("properties_other_order_other_component_name", {XACRO: RIGHT_XACRO_PROPERTIES}),
     Variant("own_macro_placing_each_robot", {XACRO: RIGHT_XACRO_OWN_MACRO}),
     Variant("flow_yaml_other_order", {YAML: RIGHT_YAML_FLOW}),
+    Variant("robot_2_turned_to_face_robot_1", {XACRO: [(ROBOT_2, '<origin xyz="0 ${-$(arg spacing) / 2} 0" rpy="0 0 ${pi}"/>')]}),
     Variant("task2_extras_and_block_lists", {YAML: [
         (_section("r1_", "joint_trajectory_controller") + "    command_interfaces: [position]",
          "r1_joint_trajectory_controller:\n  ros__parameters:\n    joints:\n      - r1_joint1\n      - r1_joint2\n"
