@@ -18,6 +18,9 @@ CHAIN = ["joint_trajectory_controller", "pid_controller_joint1", "pid_controller
 def activate_chain(cm: ControllerManager) -> None:
     """Load and configure the chain's controllers that are not yet, then activate the whole chain.
 
+    It must work from whatever state the chain is in (nothing loaded, some controllers only loaded or configured,
+    a PID already active, the head deactivated while the PIDs run), and it switches with strictness ``"strict"``.
+
     Args:
         cm: The controller manager; the controllers are declared in its controllers YAML.
     """
@@ -37,6 +40,9 @@ def activate_chain(cm: ControllerManager) -> None:
 
 def deactivate_chain(cm: ControllerManager) -> None:
     """Deactivate the chain: the head first, then the PIDs it was feeding.
+
+    Only the active controllers are deactivated, with strictness ``"strict"``; every controller stays loaded and
+    configured, and the ones that were not active stay as they were.
 
     Args:
         cm: The controller manager.

@@ -1,25 +1,31 @@
 """Grader of task 10: RRBot on DiffBot, two robots' macros reused in one description with one controller manager.
 
-The specification:
+The specification (the exercise's xacro header and TODOs, notebook 10):
 
 * ``rrbot_on_diffbot_description/urdf/rrbot_on_diffbot.urdf.xacro`` takes ``base_prefix`` (default ``base_``),
-  ``arm_prefix`` (default ``arm_``) and ``use_mock_hardware`` (default true); it reuses the library's DiffBot and RRBot
-  macros unchanged: the DiffBot is the root of the tree, the RRBot stands on ``<base_prefix>top_plate``
-  (0.1 m towards the front); every link, joint, sensor and GPIO carries its robot's prefix;
+  ``arm_prefix`` (default ``arm_``) and ``use_mock_hardware`` (default true, for both components); it reuses the
+  library's DiffBot and RRBot macros unchanged: the DiffBot is the root of the tree, the RRBot stands on
+  ``<base_prefix>top_plate``, 0.1 m towards the front (to 1 µm); every link, joint, sensor and GPIO carries its
+  robot's prefix, whatever the prefixes;
 * one ``<ros2_control>`` tag per robot: two hardware components with different names, the base's with the two wheel
   joints, the arm's with the two arm joints, the force-torque sensor and the GPIOs;
 * ``rrbot_on_diffbot_bringup/config/rrbot_on_diffbot_controllers.yaml``: ``joint_state_broadcaster``,
-  ``diffbot_base_controller`` (DiffDriveController on the base's wheels, wheel separation and radius equal to the
-  description's) and ``joint_trajectory_controller`` (the arm's joints, position commands, position and velocity
-  states); parameters Jazzy's controllers declare;
-* running, the three controllers are active at once; the base drives a circle of radius v/w while the arm follows a
-  trajectory; stopping either robot's controller leaves the other one moving;
-* ``answers.py``: the original workshop's questions (components, plugins per tag, controller managers).
+  ``diffbot_base_controller`` (DiffDriveController on the base's wheels, wheel separation 0.55 m and radius 0.1 m,
+  the description's, to 1 µm) and ``joint_trajectory_controller`` (the arm's joints, position commands, position and
+  velocity states, task 2's constraints); parameters Jazzy's controllers declare;
+* running, the three controllers are active at once; the base's odometry follows a circle of radius v/w (within
+  5 cm) while the arm reaches its trajectory's goal (within 1 mrad); stopping either robot's controller leaves the
+  other one moving;
+* ``answers.py``: the original workshop's three questions, one point each.
+
+The library's ``descriptions/rrbot_on_diffbot/`` does what the description must do: a generated-scenario check runs
+the learner's xacro and it side by side on arguments within what the task allows.
 """
 
 from __future__ import annotations
 
 import math
+import xml.etree.ElementTree as ET
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
@@ -28,12 +34,15 @@ from typing import Any
 
 import pytest
 import yaml
+from hypothesis import HealthCheck, Phase, given, settings
+from hypothesis import strategies as st
 
 import rrbot_workshop as rw
 from rrbot_workshop.bringup import System, bringup
 from rrbot_workshop.course.grading import graded
+from rrbot_workshop.course.learner import shown
 from rrbot_workshop.course.lint import lint_controllers
-from rrbot_workshop.description import parse_ros2_control, process_xacro
+from rrbot_workshop.description import descriptions_root, parse_ros2_control, process_xacro
 from rrbot_workshop.msgs import JointTrajectory, JointTrajectoryPoint, Twist, TwistStamped, Vector3
 
 TASK = 10
@@ -41,6 +50,26 @@ DESCRIPTION = "rrbot_on_diffbot_description/urdf/rrbot_on_diffbot.urdf.xacro"
 CONTROLLERS = "rrbot_on_diffbot_bringup/config/rrbot_on_diffbot_controllers.yaml"
 JSB, BASE, ARM = "joint_state_broadcaster", "diffbot_base_controller", "joint_trajectory_controller"
 WHEEL_SEPARATION, WHEEL_RADIUS = 0.55, 0.1  # [m], the DiffBot macro's geometry
+#: Distances the task states to the micrometre (the arm's mount, the wheel geometry) [m].
+LENGTH_TOLERANCE = 1e-6
+#: How far the odometry may be from the circle of radius v/w [m].
+CIRCLE_TOLERANCE = 0.05
+#: How far an arm joint may end from its trajectory's goal [rad].
+POSITION_TOLERANCE = 1e-3
+#: Hypothesis's phases without "explain" (it re-runs the learner's xacro many times only to annotate the failure).
+NO_EXPLAIN = (Phase.explicit, Phase.generate, Phase.shrink)
+
+
+def _reference() -> Path:
+    return descriptions_root() / "rrbot_on_diffbot" / "urdf" / "rrbot_on_diffbot.urdf.xacro"
+
+
+def _args(**args: Any) -> str:
+    return " ".join(f"{k}:={str(v).lower() if isinstance(v, bool) else v}" for k, v in args.items()) or "its defaults"
+
+
+def _clean(text: str, path: Path) -> str:
+    return text.replace(str(path), shown(path))
 
 
 @pytest.fixture(scope="module")
@@ -57,20 +86,25 @@ def _urdf(description_file: Path, **args: Any) -> str:
     try:
         return process_xacro(description_file, **args)
     except rw.RRBotWorkshopError as exc:
-        pytest.fail(f"{description_file.name} does not process: {exc}", pytrace=False)
+        pytest.fail(f"your {description_file.name} does not process with {_args(**args)}: "
+                    f"{_clean(str(exc), description_file)}", pytrace=False)
+    raise AssertionError("unreachable")
 
 
-def _components(urdf: str) -> list[Any]:
+def _components(urdf: str, description_file: Path, **args: Any) -> list[Any]:
     try:
         return parse_ros2_control(urdf)
     except rw.DescriptionError as exc:
-        pytest.fail(f"the <ros2_control> tags do not parse: {exc}", pytrace=False)
+        pytest.fail(f"the <ros2_control> tags of your {description_file.name} with {_args(**args)} are refused: "
+                    f"{_clean(str(exc), description_file)}", pytrace=False)
+    raise AssertionError("unreachable")
 
 
 def _component_with(infos: list[Any], joint: str) -> Any:
     found = [info for info in infos if joint in [j.name for j in info.joints]]
     if len(found) != 1:
-        pytest.fail(f"joint '{joint}' is in {len(found)} hardware components; it must be in exactly one", pytrace=False)
+        pytest.fail(f"the joint '{joint}' is in {len(found)} hardware components of your description; it must be in "
+                    "exactly one.", pytrace=False)
     return found[0]
 
 
@@ -79,7 +113,8 @@ def _system(description_file: Path, controllers_file: Path, spawn: list[str]) ->
     try:
         system = bringup(description_file, controllers_file, spawn=spawn)
     except rw.RRBotWorkshopError as exc:
-        pytest.fail(f"the system does not start with your files: {exc}", pytrace=False)
+        pytest.fail(f"the system does not start from your files with the controllers {spawn}: "
+                    f"{_clean(_clean(str(exc), description_file), controllers_file)}", pytrace=False)
     try:
         yield system
     finally:
@@ -97,113 +132,292 @@ def _joints(system: System) -> dict[str, float]:
     return dict(zip(msg.name, msg.position, strict=True)) if msg is not None else {}
 
 
+
+def _summary(urdf: str) -> dict[str, Any]:
+    robot = ET.fromstring(urdf)
+    joints = {}
+    for joint in robot.findall("joint"):
+        origin = joint.find("origin")
+        xyz = [round(float(v), 6) + 0.0 for v in ((origin.get("xyz") if origin is not None else None) or "0 0 0").split()]
+        rpy = [round(float(v), 6) + 0.0 for v in ((origin.get("rpy") if origin is not None else None) or "0 0 0").split()]
+        joints[str(joint.get("name"))] = (joint.get("type"), joint.find("parent").get("link"),  # type: ignore[union-attr]
+                                          joint.find("child").get("link"), xyz, rpy)  # type: ignore[union-attr]
+    components = {tuple(sorted(j.name for j in i.joints)): (
+        i.hardware_plugin_name, sorted(s.name for s in i.sensors), sorted(g.name for g in i.gpios))
+        for i in parse_ros2_control(urdf)}
+    return {"links": sorted(str(link.get("name")) for link in robot.findall("link")), "joints": joints,
+            "components": components}
+
+
+def _difference(got: dict[str, Any], expected: dict[str, Any]) -> str:
+    missing = sorted(set(expected["links"]) - set(got["links"]))
+    extra = sorted(set(got["links"]) - set(expected["links"]))
+    if missing or extra:
+        return f"the links {missing} are missing and {extra} should not be there"
+    for name, (kind, parent, child, xyz, rpy) in expected["joints"].items():
+        mine = next((j for j in got["joints"].values() if j[2] == child), None)
+        if mine is None:
+            return f"no joint holds the link {child}"
+        # the task places each robot's base_link but says nothing of its orientation: any rpy is right there
+        turned = mine[4] != rpy and not child.endswith("base_link")
+        if mine[1] != parent or mine[3] != xyz or turned or mine[0] != kind:
+            return (f"{child} hangs from {mine[1]} at xyz {mine[3]} rpy {mine[4]} ({mine[0]}), expected from {parent} "
+                    f"at xyz {xyz} rpy {rpy} ({kind}) (joint '{name}')")
+    if len(got["components"]) != len(expected["components"]):
+        return f"{len(got['components'])} hardware components, expected {len(expected['components'])}"
+    for joints, (plugin, sensors, gpios) in expected["components"].items():
+        mine = got["components"].get(joints)
+        if mine is None:
+            return f"no hardware component holds exactly the joints {list(joints)}"
+        if mine[0] != plugin:
+            return f"the component of {list(joints)} uses the plugin '{mine[0]}', expected '{plugin}'"
+        if mine[1] != sensors or mine[2] != gpios:
+            return (f"the component of {list(joints)} has sensors {mine[1]} and GPIOs {mine[2]}, expected {sensors} "
+                    f"and {gpios}")
+    return ""
+
+
 # --------------------------------------------------------------------------------------------- 10.1 the tree
 
 
-@graded(points=2, hint="Task 10.1: instantiate both macros, each with its prefix argument; the base is the root, the "
-        "arm's parent is the base's top plate. Open the macros in descriptions/ to see their parameters.")
+@graded(points=2, hint=(
+    "Task 10.1: the base is the root of the tree (a mobile robot has no world link), and the arm's base_link hangs "
+    "from the base's top plate, 0.1 m towards the front (checked to 1 µm).",
+    "The rrbot macro takes a parent link and an <origin> block; the diffbot macro creates <prefix>top_plate. Give "
+    "the arm parent=\"$(arg base_prefix)top_plate\".",
+    "<xacro:diffbot prefix=\"$(arg base_prefix)\"/>\n<xacro:rrbot prefix=\"$(arg arm_prefix)\" "
+    "parent=\"$(arg base_prefix)top_plate\">\n  <origin xyz=\"0.1 0 0\" rpy=\"0 0 0\"/>\n</xacro:rrbot>"))
 def test_both_robots_in_one_tree(description_file: Path) -> None:
-    import xml.etree.ElementTree as ET
+    for base, arm in (("base_", "arm_"), ("mobile_", "manip_")):
+        args = {"base_prefix": base, "arm_prefix": arm}
+        where = f"your {description_file.name} with {_args(**args)}"
+        robot = ET.fromstring(_urdf(description_file, **args))
+        links = {link.get("name") for link in robot.findall("link")}
+        joints = {j.get("name"): (j.find("parent").get("link"), j.find("child").get("link"))  # type: ignore[union-attr]
+                  for j in robot.findall("joint")}
+        for name in (f"{base}base_link", f"{base}top_plate", f"{arm}base_link", f"{arm}link1", f"{arm}link2"):
+            assert name in links, f"{where} has no link '{name}' (its links: {sorted(str(n) for n in links)})."
+        roots = sorted(str(n) for n in links - {child for _parent, child in joints.values()})
+        assert roots == [f"{base}base_link"], (
+            f"{where}: the tree must have one root, the base's {base}base_link; its roots are {roots}.")
+        mount = [(name, pc) for name, pc in joints.items() if pc[1] == f"{arm}base_link"]
+        assert mount and mount[0][1][0] == f"{base}top_plate", (
+            f"{where}: the arm's {arm}base_link must hang from {base}top_plate, it hangs from "
+            f"{mount[0][1][0] if mount else 'nothing'}.")
+        origin = robot.find(f"joint[@name='{mount[0][0]}']/origin")
+        xyz = [float(v) for v in ((origin.get("xyz") if origin is not None else None) or "0 0 0").split()]
+        assert len(xyz) == 3 and all(math.isclose(a, b, abs_tol=LENGTH_TOLERANCE)
+                                     for a, b in zip(xyz, (0.1, 0.0, 0.0), strict=True)), (
+            f"{where}: the arm stands at {xyz} on the top plate, expected [0.1, 0.0, 0.0] (0.1 m towards the front).")
 
-    robot = ET.fromstring(_urdf(description_file))
-    links = {link.get("name") for link in robot.findall("link")}
-    joints = {j.get("name"): (j.find("parent").get("link"), j.find("child").get("link"))  # type: ignore[union-attr]
-              for j in robot.findall("joint")}
-    for name in ("base_base_link", "base_top_plate", "arm_base_link", "arm_link1", "arm_link2"):
-        assert name in links, f"no link '{name}' (links: {sorted(links)})"
-    children = {child for _parent, child in joints.values()}
-    roots = sorted(links - children)
-    assert roots == ["base_base_link"], f"the tree must have one root, the base's base_link; roots: {roots}"
-    mount = [(name, pc) for name, pc in joints.items() if pc[1] == "arm_base_link"]
-    assert mount and mount[0][1][0] == "base_top_plate", f"the arm's base_link must hang from base_top_plate: {mount}"
-    origin = robot.find(f"joint[@name='{mount[0][0]}']/origin")
-    xyz = [float(v) for v in (origin.get("xyz", "0 0 0") if origin is not None else "0 0 0").split()]
-    assert xyz == pytest.approx([0.1, 0.0, 0.0]), f"the arm stands at {xyz} on the top plate, expected 0.1 m forward"
 
-
-@graded(points=2, hint="Task 10.1: every name comes from its robot's prefix argument, never written out: with "
-        "base_prefix:=b_ and arm_prefix:=a_ no name may start with base_ or arm_.")
+@graded(points=2, hint=(
+    "Task 10.1: every name comes from its robot's prefix argument, never written out: with other prefixes (even "
+    "swapped ones), every base name starts with base_prefix and every arm name with arm_prefix.",
+    "Pass prefix=\"$(arg base_prefix)\" to both DiffBot macros and prefix=\"$(arg arm_prefix)\" to both RRBot macros "
+    "(and to the arm's parent link name).",
+    "<xacro:diffbot_ros2_control name=\"DiffBot\" prefix=\"$(arg base_prefix)\" "
+    "use_mock_hardware=\"$(arg use_mock_hardware)\"/>"))
 def test_prefix_arguments_rename_everything(description_file: Path) -> None:
-    import xml.etree.ElementTree as ET
-
-    urdf = _urdf(description_file, base_prefix="b_", arm_prefix="a_")
-    infos = _components(urdf)
-    robot = ET.fromstring(urdf)
-    names = [j.name for info in infos for j in info.joints] + [s.name for info in infos for s in info.sensors] + [
-        g.name for info in infos for g in info.gpios] + [info.name for info in infos] + [
-        str(e.get("name")) for e in (*robot.findall("link"), *robot.findall("joint"))]
-    unprefixed = sorted(n for n in names if not n.startswith(("b_", "a_")))
-    assert names and not unprefixed, f"names without the new prefixes: {unprefixed}"
+    for base, arm in (("b_", "a_"), ("arm_", "base_"), ("mobile_", "manip_")):
+        args = {"base_prefix": base, "arm_prefix": arm}
+        urdf = _urdf(description_file, **args)
+        infos = _components(urdf, description_file, **args)
+        robot = ET.fromstring(urdf)
+        wheels = {j.name for info in infos for j in info.joints if "wheel" in j.name}
+        arm_names = [j.name for info in infos for j in info.joints if j.name not in wheels]
+        arm_names += [s.name for info in infos for s in info.sensors] + [g.name for info in infos for g in info.gpios]
+        links_and_joints = [str(e.get("name")) for e in (*robot.findall("link"), *robot.findall("joint"))]
+        where = f"your {description_file.name} with {_args(**args)}"
+        assert sorted(wheels) == [f"{base}left_wheel_joint", f"{base}right_wheel_joint"], (
+            f"{where}: the wheel joints of its components are {sorted(wheels)}, expected {base}left_wheel_joint and "
+            f"{base}right_wheel_joint.")
+        wrong = sorted(n for n in arm_names if not n.startswith(arm))
+        assert not wrong, f"{where}: the arm's joints, sensor or GPIOs {wrong} do not start with '{arm}'."
+        stray = sorted(n for n in links_and_joints + [i.name for i in infos] if not n.startswith((base, arm)))
+        assert not stray, f"{where} has names that start with neither prefix: {stray}."
 
 
 # --------------------------------------------------------------------------------------------- 10.2 components
 
 
-@graded(points=3, hint="Task 10.2: one <ros2_control> tag per robot (the macros write one each): two hardware "
-        "components with different names, the wheels in one, the arm's joints, sensor and GPIOs in the other.")
+@graded(points=3, hint=(
+    "Task 10.2: one <ros2_control> tag per robot (each macro writes one): two hardware components with different "
+    "names, the wheels in one, the arm's joints, sensor and GPIOs in the other.",
+    "Call diffbot_ros2_control and rrbot_ros2_control once each; each names its component <prefix><name>, so the "
+    "prefixes keep the two names apart.",
+    "<xacro:diffbot_ros2_control name=\"DiffBot\" prefix=\"$(arg base_prefix)\" use_mock_hardware=\"$(arg "
+    "use_mock_hardware)\"/>\n<xacro:rrbot_ros2_control name=\"RRBot\" prefix=\"$(arg arm_prefix)\" "
+    "use_mock_hardware=\"$(arg use_mock_hardware)\"/>"))
 def test_two_hardware_components(description_file: Path) -> None:
-    infos = _components(_urdf(description_file))
-    assert len(infos) == 2, f"{len(infos)} hardware components ({[i.name for i in infos]}), expected 2"
-    assert len({i.name for i in infos}) == 2, f"the components have the same name: {[i.name for i in infos]}"
+    infos = _components(_urdf(description_file), description_file)
+    names = [i.name for i in infos]
+    assert len(infos) == 2, f"your description declares {len(infos)} hardware components ({names}), expected 2."
+    assert len(set(names)) == 2, f"the two hardware components of your description have the same name: {names}."
     base = _component_with(infos, "base_left_wheel_joint")
     arm = _component_with(infos, "arm_joint1")
-    assert base is not arm, "the base's wheels and the arm's joints are in the same component"
-    assert sorted(j.name for j in base.joints) == ["base_left_wheel_joint", "base_right_wheel_joint"]
-    assert sorted(j.name for j in arm.joints) == ["arm_joint1", "arm_joint2"]
-    assert [s.name for s in arm.sensors] == ["arm_tcp_fts_sensor"] and [g.name for g in arm.gpios] == ["arm_flange_gpios"]
-    assert base.hardware_plugin_name == arm.hardware_plugin_name == "mock_components/GenericSystem"
+    assert base is not arm, "the base's wheels and the arm's joints are in the same hardware component."
+    wheels = sorted(j.name for j in base.joints)
+    assert wheels == ["base_left_wheel_joint", "base_right_wheel_joint"], (
+        f"the base's component '{base.name}' holds the joints {wheels}, expected the two wheel joints.")
+    joints = sorted(j.name for j in arm.joints)
+    assert joints == ["arm_joint1", "arm_joint2"], f"the arm's component '{arm.name}' holds the joints {joints}."
+    sensors, gpios = [s.name for s in arm.sensors], [g.name for g in arm.gpios]
+    assert sensors == ["arm_tcp_fts_sensor"] and gpios == ["arm_flange_gpios"], (
+        f"the arm's component '{arm.name}' has the sensors {sensors} and GPIOs {gpios}, expected "
+        "['arm_tcp_fts_sensor'] and ['arm_flange_gpios'].")
 
 
-@graded(points=2, hint="Task 10.2: a diff drive controller on the base's wheel joints with the description's geometry "
-        "(wheel_separation, wheel_radius in m) and the arm's trajectory controller; `rrbot-workshop lint` checks names.")
+@graded(points=1, hint=(
+    "Task 10.2: use_mock_hardware chooses the hardware of BOTH components: true gives mock_components/GenericSystem "
+    "to both, false each macro's other plugin.",
+    "Pass the file's argument on to each <ros2_control> macro; their own default is true, so leaving it out only "
+    "looks right with the default.",
+    "<xacro:rrbot_ros2_control name=\"RRBot\" prefix=\"$(arg arm_prefix)\" use_mock_hardware=\"$(arg use_mock_hardware)\"/>"))
+def test_use_mock_hardware_reaches_both_components(description_file: Path) -> None:
+    for mock in (True, False):
+        expected = {tuple(sorted(j.name for j in i.joints)): i.hardware_plugin_name
+                    for i in parse_ros2_control(process_xacro(_reference(), use_mock_hardware=mock))}
+        infos = _components(_urdf(description_file, use_mock_hardware=mock), description_file, use_mock_hardware=mock)
+        got = {tuple(sorted(j.name for j in i.joints)): i.hardware_plugin_name for i in infos}
+        for joints, plugin in expected.items():
+            assert got.get(joints) == plugin, (
+                f"your {description_file.name} with use_mock_hardware:={str(mock).lower()} gives the component of "
+                f"{list(joints)} the plugin {got.get(joints)!r}, expected '{plugin}'.")
+
+
+@graded(points=2, hint=(
+    "Task 10.1/10.2: for any prefixes and use_mock_hardware, your description must give the same links, joints, "
+    "placements and hardware components as the two macros composed as the task says.",
+    "Every name from a prefix argument, the arm's mount from the base's prefix, use_mock_hardware passed on to both "
+    "<ros2_control> macros, nothing else of your own.",
+    "<xacro:diffbot prefix=\"$(arg base_prefix)\"/>\n<xacro:rrbot prefix=\"$(arg arm_prefix)\" "
+    "parent=\"$(arg base_prefix)top_plate\"><origin xyz=\"0.1 0 0\" rpy=\"0 0 0\"/></xacro:rrbot>\n(and one "
+    "<ros2_control> macro per robot)"))
+def test_description_matches_the_task_for_any_arguments(description_file: Path) -> None:
+    prefix = st.sampled_from(["base_", "arm_", "b_", "a_", "mobile_", "manip_", "left_"])
+    scenario = st.fixed_dictionaries({"base_prefix": prefix, "arm_prefix": prefix,
+                                      "use_mock_hardware": st.booleans()}).filter(
+        lambda a: a["base_prefix"] != a["arm_prefix"])
+    failing: list[dict[str, Any]] = []
+    seen: dict[tuple[Any, ...], str] = {}  # scenario -> difference ("" when none): shrinking revisits scenarios
+
+    def difference(args: dict[str, Any]) -> str:
+        key = tuple(sorted(args.items()))
+        if key not in seen:
+            expected = _summary(process_xacro(_reference(), **args))
+            try:
+                seen[key] = _difference(_summary(process_xacro(description_file, **args)), expected)
+            except rw.RRBotWorkshopError as exc:
+                seen[key] = f"it is refused: {_clean(str(exc), description_file)}"
+        return seen[key]
+
+    @settings(derandomize=True, database=None, deadline=None, max_examples=8,
+              suppress_health_check=list(HealthCheck), phases=NO_EXPLAIN, report_multiple_bugs=False)
+    @given(scenario)
+    def compare(args: dict[str, Any]) -> None:
+        found = difference(args)
+        if found:
+            failing.append(args)
+            raise AssertionError(found)
+
+    try:
+        compare()
+    except AssertionError as exc:
+        # Hypothesis replays the smallest failing scenario last: its arguments are the last ones recorded.
+        arguments = _args(**failing[-1]) if failing else "some arguments"
+        pytest.fail(f"your {description_file.name} with {arguments}: {exc.args[0] if exc.args else exc}.",
+                    pytrace=False)
+
+
+@graded(points=2, hint=(
+    "Task 10.2: a diff drive controller on the base's wheel joints with the description's geometry (wheels 0.55 m "
+    "apart, 0.1 m in radius, to 1 µm) and the arm's trajectory controller on its prefixed joints, configured as in "
+    "task 2.",
+    "diff_drive_controller's left_wheel_names, right_wheel_names, wheel_separation, wheel_radius; the trajectory "
+    "controller's joints, command_interfaces, state_interfaces. `rrbot-workshop lint` checks the names.",
+    "diffbot_base_controller:\n  ros__parameters:\n    left_wheel_names: [base_left_wheel_joint]\n"
+    "    right_wheel_names: [base_right_wheel_joint]\n    wheel_separation: 0.55\n    wheel_radius: 0.1"))
 def test_controllers_yaml(controllers_file: Path) -> None:
+    name = controllers_file.name
     try:
         data = yaml.safe_load(controllers_file.read_text()) or {}
     except yaml.YAMLError as exc:
-        pytest.fail(f"{controllers_file.name} is not valid YAML: {exc}", pytrace=False)
+        pytest.fail(f"your {name} is not valid YAML: {exc}", pytrace=False)
     manager = (data.get("controller_manager") or {}).get("ros__parameters") or {}
-    types = {n: (manager.get(n) or {}).get("type") for n in (JSB, BASE, ARM)}
-    assert types == {JSB: "joint_state_broadcaster/JointStateBroadcaster",
-                     BASE: "diff_drive_controller/DiffDriveController",
-                     ARM: "joint_trajectory_controller/JointTrajectoryController"}, f"types {types}"
+    expected_types = {JSB: "joint_state_broadcaster/JointStateBroadcaster",
+                      BASE: "diff_drive_controller/DiffDriveController",
+                      ARM: "joint_trajectory_controller/JointTrajectoryController"}
+    for controller, type_name in expected_types.items():
+        declared = (manager.get(controller) or {}).get("type")
+        assert declared == type_name, f"your {name} declares '{controller}' with the type {declared!r}, expected '{type_name}'."
     base = (data.get(BASE) or {}).get("ros__parameters") or {}
-    assert base.get("left_wheel_names") == ["base_left_wheel_joint"], base.get("left_wheel_names")
-    assert base.get("right_wheel_names") == ["base_right_wheel_joint"], base.get("right_wheel_names")
-    assert base.get("wheel_separation") == pytest.approx(WHEEL_SEPARATION), "wheel_separation is not the description's"
-    assert base.get("wheel_radius") == pytest.approx(WHEEL_RADIUS), "wheel_radius is not the description's"
+    for key, wheel in (("left_wheel_names", "base_left_wheel_joint"), ("right_wheel_names", "base_right_wheel_joint")):
+        assert base.get(key) == [wheel], f"your {name}: {BASE}'s {key} is {base.get(key)}, expected [{wheel}]."
+    for key, value in (("wheel_separation", WHEEL_SEPARATION), ("wheel_radius", WHEEL_RADIUS)):
+        got = base.get(key)
+        assert isinstance(got, (int, float)) and math.isclose(got, value, abs_tol=LENGTH_TOLERANCE), (
+            f"your {name}: {BASE}'s {key} is {got!r} m, the description's is {value} m.")
     arm = (data.get(ARM) or {}).get("ros__parameters") or {}
-    assert arm.get("joints") == ["arm_joint1", "arm_joint2"], f"{ARM}: joints {arm.get('joints')}"
-    assert arm.get("command_interfaces") == ["position"], f"{ARM}: command_interfaces {arm.get('command_interfaces')}"
+    assert arm.get("joints") == ["arm_joint1", "arm_joint2"], (
+        f"your {name}: {ARM}'s joints are {arm.get('joints')}, expected [arm_joint1, arm_joint2].")
+    assert arm.get("command_interfaces") == ["position"], (
+        f"your {name}: {ARM}'s command_interfaces are {arm.get('command_interfaces')}, expected [position].")
+    states = arm.get("state_interfaces")
+    assert isinstance(states, list) and sorted(states) == ["position", "velocity"], (
+        f"your {name}: {ARM}'s state_interfaces are {states}, expected [position, velocity].")
+    constraints = arm.get("constraints") or {}
+    for key, value in (("stopped_velocity_tolerance", 0.01), ("goal_time", 0.0)):  # task 2's (and Jazzy's defaults)
+        got = constraints.get(key, value)
+        assert isinstance(got, (int, float)) and math.isclose(got, value, abs_tol=1e-9), (
+            f"your {name}: {ARM}'s constraints.{key} is {got!r}; task 2's is {value}.")
     errors = [f.message for f in lint_controllers(controllers_file) if f.level == "error"]
-    assert not errors, "the YAML would not load on a Jazzy robot: " + "; ".join(errors)
+    assert not errors, f"your {name} would not load on a Jazzy robot: " + "; ".join(errors)
 
 
 # --------------------------------------------------------------------------------------------- running
 
 
-@graded(points=3, hint="Task 10: with disjoint interfaces, the base's and the arm's controllers run at the same time; "
-        "the base drives a circle of radius v/w while the arm follows its trajectory.")
+@graded(points=3, hint=(
+    "Task 10: with disjoint interfaces, the base's and the arm's controllers run at the same time: the base's "
+    "odometry follows a circle of radius v/w (within 5 cm) while the arm reaches its goal (within 1 mrad).",
+    "Spawn joint_state_broadcaster, diffbot_base_controller and joint_trajectory_controller together; the base's "
+    "controller needs the description's wheel names, the arm's the prefixed joints.",
+    "rw.bringup(your_xacro, your_yaml, spawn=['joint_state_broadcaster', 'diffbot_base_controller', "
+    "'joint_trajectory_controller'])"))
 def test_base_and_arm_move_together(description_file: Path, controllers_file: Path) -> None:
-    with _system(description_file, controllers_file, [JSB, BASE, ARM]) as system:
-        states = {c.name: c.state for c in system.controller_manager.list_controllers()}
-        assert all(states.get(n) == "active" for n in (JSB, BASE, ARM)), f"controllers: {states}"
-        system.publish(f"/{ARM}/joint_trajectory", JointTrajectory(
-            joint_names=["arm_joint1", "arm_joint2"],
-            points=[JointTrajectoryPoint(positions=[0.8, -0.4], time_from_start=2.0)]))
-        _drive(system, 0.5, 0.5, 1.0)  # accelerate onto the circle
-        radii = []
-        for _ in range(8):
-            _drive(system, 0.5, 0.5, 0.5)
-            p = system.latest(f"/{BASE}/odom").pose.pose.position
-            radii.append(math.hypot(p.x, p.y - 1.0))
-        joints = _joints(system)
-    assert max(abs(r - 1.0) for r in radii) < 0.05, f"the odometry is not on a 1 m circle: radii {radii}"
-    assert joints.get("arm_joint1") == pytest.approx(0.8, abs=1e-3), f"arm: {joints}"
-    assert joints.get("arm_joint2") == pytest.approx(-0.4, abs=1e-3), f"arm: {joints}"
+    for v, w, goal in ((0.5, 0.5, [0.8, -0.4]), (0.3, -0.6, [-0.5, 0.7])):
+        radius = v / w
+        with _system(description_file, controllers_file, [JSB, BASE, ARM]) as system:
+            states = {c.name: c.state for c in system.controller_manager.list_controllers()}
+            inactive = {n: states.get(n, "not loaded") for n in (JSB, BASE, ARM) if states.get(n) != "active"}
+            assert not inactive, f"with your files these controllers are not active: {inactive}."
+            system.publish(f"/{ARM}/joint_trajectory", JointTrajectory(
+                joint_names=["arm_joint1", "arm_joint2"],
+                points=[JointTrajectoryPoint(positions=goal, time_from_start=2.0)]))
+            _drive(system, v, w, 1.0)  # accelerate onto the circle
+            distances = []
+            for _ in range(8):
+                _drive(system, v, w, 0.5)
+                p = system.latest(f"/{BASE}/odom").pose.pose.position
+                distances.append(math.hypot(p.x, p.y - radius) - abs(radius))
+            joints = _joints(system)
+        worst = max(distances, key=abs)
+        assert abs(worst) <= CIRCLE_TOLERANCE, (
+            f"driving at v = {v} m/s, w = {w} rad/s, the odometry leaves the circle of radius {abs(radius):.2f} m by "
+            f"{worst:+.3f} m (allowed {CIRCLE_TOLERANCE} m).")
+        arm = [joints.get("arm_joint1"), joints.get("arm_joint2")]
+        assert all(a is not None and abs(a - g) <= POSITION_TOLERANCE for a, g in zip(arm, goal, strict=True)), (
+            f"while the base drives, the arm ends at {arm}, its trajectory's goal is {goal} (within 1 mrad).")
 
 
-@graded(points=2, hint="Task 10: the robots share a controller manager, nothing else: deactivating the base's "
-        "controller must not stop the arm, and the other way round.")
+@graded(points=2, hint=(
+    "Task 10: the robots share a controller manager, nothing else: deactivating the base's controller must not stop "
+    "the arm, and deactivating the arm's must not stop the base.",
+    "Each controller claims only its own robot's interfaces; a strict switch that deactivates one leaves the other "
+    "active.",
+    "cm.switch_controllers(deactivate=['diffbot_base_controller'], strictness='strict') leaves "
+    "joint_trajectory_controller active and moving the arm."))
 def test_base_and_arm_are_independent(description_file: Path, controllers_file: Path) -> None:
     with _system(description_file, controllers_file, [JSB, BASE, ARM]) as system:
         cm = system.controller_manager
@@ -216,20 +430,49 @@ def test_base_and_arm_are_independent(description_file: Path, controllers_file: 
         cm.switch_controllers(activate=[BASE], deactivate=[ARM], strictness="strict")
         _drive(system, 0.4, 0.0, 2.0)
         x = system.latest(f"/{BASE}/odom").pose.pose.position.x
-    assert arm.get("arm_joint1") == pytest.approx(-0.5, abs=1e-3), f"the arm stopped with the base: {arm}"
-    assert x > 0.5, f"the base did not drive with the arm's controller stopped (odometry x = {x:.3f} m)"
+    reached = [arm.get("arm_joint1"), arm.get("arm_joint2")]
+    assert all(a is not None and abs(a - g) <= POSITION_TOLERANCE for a, g in zip(reached, [-0.5, 0.3], strict=True)), (
+        f"with the base's controller stopped, the arm ends at {reached} instead of [-0.5, 0.3]: it stopped with the base.")
+    assert x > 0.5, (f"with the arm's controller stopped, the base drove to x = {x:.3f} m in 2 s at 0.4 m/s (expected "
+                     "more than 0.5 m): it stopped with the arm.")
 
 
 # --------------------------------------------------------------------------------------------- 10.3 answers
 
 
-@graded(points=1, hint="Task 10.3: count from your description: how many <ros2_control> tags, how many <plugin> in "
-        "each, how many controller managers run them? %control list_hardware_components confirms.")
-def test_answers(task_file: Callable[[int, str], Path]) -> None:
+def _answer(task_file: Callable[[int, str], Path], name: str) -> Any:
     task_file(TASK, "answers.py")
     answers: ModuleType | None = rw.course.load_module(TASK, "answers.py", quiet=True)
-    assert answers is not None, "answers.py does not import"
-    expected = {"HARDWARE_COMPONENTS": 2, "PLUGINS_PER_ROS2_CONTROL_TAG": 1, "CONTROLLER_MANAGERS": 1}
-    got = {name: getattr(answers, name, None) for name in expected}
-    wrong = {n: v for n, v in got.items() if v != expected[n] or isinstance(v, bool)}
-    assert not wrong, f"not right yet: {sorted(wrong)}"
+    if answers is None:
+        pytest.fail("your answers.py does not import; run notebook 10's cell that loads it to see the error",
+                    pytrace=False)
+    return getattr(answers, name, None)
+
+
+def _answer_hint(question: str, idea: str) -> tuple[str, str, str]:
+    return (f"Task 10.3: {question} {idea}",
+            "Count from your description, then confirm on the running system: %control list_hardware_components "
+            "lists the components with their plugin.",
+            "In answers.py, replace the None with a whole number (an int, not a string or a bool).")
+
+
+@graded(points=1, hint=_answer_hint("How many hardware components does the controller manager load?",
+                                    "One per <ros2_control> tag."))
+def test_answer_hardware_components(task_file: Callable[[int, str], Path]) -> None:
+    value = _answer(task_file, "HARDWARE_COMPONENTS")
+    assert value == 2 and not isinstance(value, bool), f"HARDWARE_COMPONENTS = {value!r} in your answers.py is not right yet."
+
+
+@graded(points=1, hint=_answer_hint("How many hardware plugins does each <ros2_control> tag name?",
+                                    "Look at the <hardware> element of one tag."))
+def test_answer_plugins_per_tag(task_file: Callable[[int, str], Path]) -> None:
+    value = _answer(task_file, "PLUGINS_PER_ROS2_CONTROL_TAG")
+    assert value == 1 and not isinstance(value, bool), (
+        f"PLUGINS_PER_ROS2_CONTROL_TAG = {value!r} in your answers.py is not right yet.")
+
+
+@graded(points=1, hint=_answer_hint("How many controller managers run the two robots?",
+                                    "One bringup, one controllers YAML."))
+def test_answer_controller_managers(task_file: Callable[[int, str], Path]) -> None:
+    value = _answer(task_file, "CONTROLLER_MANAGERS")
+    assert value == 1 and not isinstance(value, bool), f"CONTROLLER_MANAGERS = {value!r} in your answers.py is not right yet."

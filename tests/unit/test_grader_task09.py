@@ -1,88 +1,208 @@
-"""The task-9 grader fails plausible wrong solutions: each test grades a copy of the solution with one mistake.
-
-Full marks on ``solutions/`` and less on the untouched ``exercises/`` are checked for every task in
-``test_graders.py``; these show that each check catches the mistake it is about.
-"""
+"""The task-9 grader: wrong solutions, written as learners would, lose points; correct ones written differently get
+full marks. Each is a copy of ``solutions/`` with exact changes (see ``grader_variants``)."""
 
 from __future__ import annotations
 
-import shutil
-from pathlib import Path
-
 import pytest
+from grader_variants import Variant, assert_full_marks, assert_loses_points, grade_variants
 
 from rrbot_workshop.course import tracks
-from rrbot_workshop.course.grading import Rubric, grade
 
 HAS_SOLUTIONS = (tracks.course_root() / "solutions").is_dir()
 pytestmark = pytest.mark.skipif(not HAS_SOLUTIONS, reason="this copy of the course has no solutions/")
 YAML = "rrbot_bringup/config/rrbot_chained_controllers.yaml"
+CHAIN = "chain.py"
+ACTIVATE = ('    if followers:\n        cm.switch_controllers(activate=followers, strictness="strict")\n'
+            '    if loaded[CHAIN[0]] != "active":\n        cm.switch_controllers(activate=[CHAIN[0]], strictness="strict")\n')
+DEACTIVATE = ('    if CHAIN[0] in active:\n        cm.switch_controllers(deactivate=[CHAIN[0]], strictness="strict")\n'
+              '    followers = [name for name in CHAIN[1:] if name in active]\n'
+              '    if followers:\n        cm.switch_controllers(deactivate=followers, strictness="strict")\n')
+LOAD = ('    for name in CHAIN:\n        if name not in loaded:\n            cm.load_controller(name)\n'
+        '            loaded[name] = "unconfigured"\n        if loaded[name] == "unconfigured":\n'
+        '            cm.configure_controller(name)\n')
+GAINS_1 = "joint1: {p: 300.0, i: 100.0, d: 10.0"
+STEP = {"step_overshoot", "step_settling_time", "step_final_error"}
+
+WRONG = [
+    Variant("velocity_references_only", {YAML: [
+        ("    command_interface: effort\n    reference_and_state_interfaces: [position, velocity]\n    gains:\n"
+         "      # Tuned", "    command_interface: effort\n    reference_and_state_interfaces: [velocity]\n    gains:\n"
+         "      # Tuned")]},
+            fails={"pids_command_effort_with_position_and_velocity_references", "activate_chain_connects"}),
+    Variant("trajectory_controller_commands_the_hardware", {YAML: [
+        ("    command_joints: [pid_controller_joint1/joint1, pid_controller_joint2/joint2]\n", "")]},
+            fails={"trajectory_controller_commands_the_pids", "activate_chain_connects"}),
+    Variant("trajectory_controller_sends_positions_only", {YAML: [
+        ("    command_interfaces: [position, velocity]", "    command_interfaces: [position]")]},
+            fails={"trajectory_controller_commands_the_pids", "activate_chain_connects"}),
+    Variant("pids_command_position", {YAML: [
+        ("    dof_names: [joint2]\n    command_interface: effort", "    dof_names: [joint2]\n    command_interface: position")]},
+            fails={"pids_command_effort_with_position_and_velocity_references"}),
+    Variant("second_pid_copied_on_joint1", {YAML: [
+        ("    dof_names: [joint2]\n", "    dof_names: [joint1]\n"),
+        ("      joint2: {p: 300.0, i: 300.0", "      joint1: {p: 300.0, i: 300.0")]},
+            fails={"pids_command_effort_with_position_and_velocity_references"}),
+    Variant("head_activated_first", {CHAIN: [(ACTIVATE,
+        '    if loaded[CHAIN[0]] != "active":\n        cm.switch_controllers(activate=[CHAIN[0]], strictness="strict")\n'
+        '    if followers:\n        cm.switch_controllers(activate=followers, strictness="strict")\n')]},
+            fails={"activate_chain_connects", "activate_chain_from_any_state", "update_order_is_jazzy",
+                   "deactivate_chain", "trajectory_is_tracked_through_the_chain"}, names_file="chain.py"),
+    Variant("activation_without_strictness", {CHAIN: [(ACTIVATE, ACTIVATE.replace(', strictness="strict"', ""))]},
+            fails={"activate_chain_connects", "activate_chain_from_any_state"}),
+    Variant("activation_best_effort", {CHAIN: [(ACTIVATE, ACTIVATE.replace('"strict"', '"best_effort"'))]},
+            fails={"activate_chain_connects", "activate_chain_from_any_state"}),
+    Variant("pids_stopped_first", {CHAIN: [(DEACTIVATE,
+        '    followers = [name for name in CHAIN[1:] if name in active]\n'
+        '    if followers:\n        cm.switch_controllers(deactivate=followers, strictness="strict")\n'
+        '    if CHAIN[0] in active:\n        cm.switch_controllers(deactivate=[CHAIN[0]], strictness="strict")\n')]},
+            fails={"deactivate_chain", "deactivate_chain_from_any_state"}, names_file="chain.py"),
+    Variant("deactivation_without_strictness", {CHAIN: [(DEACTIVATE, DEACTIVATE.replace(', strictness="strict"', ""))]},
+            fails={"deactivate_chain", "deactivate_chain_from_any_state"}),
+    Variant("everything_assumed_configured", {CHAIN: [(LOAD, "")]},
+            fails={"activate_chain_from_any_state"}, names_file="chain.py"),
+    Variant("loaded_but_never_configured", {CHAIN: [(
+        '        if loaded[name] == "unconfigured":\n            cm.configure_controller(name)\n', "")]},
+            fails={"activate_chain_from_any_state"}, names_file="chain.py"),
+    Variant("whole_chain_in_one_switch_whatever_its_state", {CHAIN: [(ACTIVATE,
+        '    cm.switch_controllers(activate=list(CHAIN), strictness="strict")\n')]},
+            fails={"activate_chain_from_any_state"}, names_file="chain.py"),
+    Variant("whole_chain_stopped_whatever_its_state", {CHAIN: [(DEACTIVATE,
+        '    cm.switch_controllers(deactivate=list(CHAIN), strictness="strict")\n')]},
+            fails={"deactivate_chain_from_any_state"}, names_file="chain.py"),
+    Variant("deactivation_unloads_the_chain", {CHAIN: [(DEACTIVATE, DEACTIVATE + (
+        '    for name in CHAIN:\n        cm.unload_controller(name)\n'))]},
+            fails={"deactivate_chain", "deactivate_chain_from_any_state"}),
+    Variant("loop_at_1000_hz", {YAML: [("update_rate: 100  # [Hz]", "update_rate: 1000  # [Hz]")]},
+            fails=STEP),
+    Variant("slower_pid", {YAML: [("    pid_controller_joint1:\n      type: pid_controller/PidController\n",
+                                   "    pid_controller_joint1:\n      type: pid_controller/PidController\n"
+                                   "      update_rate: 50\n")]},
+            fails=STEP),
+    Variant("exercise_starting_gains", {YAML: [(GAINS_1, "joint1: {p: 100.0, i: 50.0, d: 10.0")]},
+            fails={"step_settling_time", "step_final_error"}),
+    Variant("too_much_integral", {YAML: [(GAINS_1, "joint1: {p: 300.0, i: 1000.0, d: 10.0")]},
+            fails={"step_overshoot"}),
+    Variant("too_little_damping", {YAML: [(GAINS_1, "joint1: {p: 300.0, i: 0.0, d: 2.0")]},
+            fails={"step_overshoot"}),
+]
+
+RIGHT_CHAIN_ONE_SWITCH = '''"""Task 9.2, written with set operations and one switch each way."""
+
+from rrbot_workshop.controller_manager.manager import ControllerManager
+
+CHAIN = ["joint_trajectory_controller", "pid_controller_joint1", "pid_controller_joint2"]
 
 
-def _mutated(tmp_path: Path, file: str, old: str, new: str, count: int = 1) -> Path:
-    source = tracks.task_dir(9, "solutions")
-    copy = tmp_path / source.name
-    shutil.copytree(source, copy, ignore=shutil.ignore_patterns("__pycache__"))
-    path = copy / file
-    text = path.read_text()
-    assert text.count(old) == count, f"mutation {old!r} applies {text.count(old)} times to {path}, not {count}"
-    path.write_text(text.replace(old, new))
-    return tmp_path
+def _states(cm):
+    result = {}
+    for entry in cm.list_controllers():
+        result[entry.name] = entry.state
+    return result
 
 
-def _failed(rubric: Rubric) -> set[str]:
-    return {c.name for c in rubric.checks if not c.passed}
+def activate_chain(cm: ControllerManager) -> None:
+    states = _states(cm)
+    for name in CHAIN:
+        if states.get(name) is None:
+            cm.load_controller(name)
+            cm.configure_controller(name)
+        elif states[name] == "unconfigured":
+            cm.configure_controller(name)
+    missing = [name for name in reversed(CHAIN) if _states(cm)[name] != "active"]
+    if missing:
+        # followers and head together: the manager activates the exporters first
+        cm.switch_controllers(activate=missing, strictness=2)
 
 
-def test_original_workshop_velocity_references_fail(tmp_path: Path) -> None:
-    """The original's mismatch: PIDs exporting only velocity references cannot take the JTC's position commands."""
-    root = _mutated(tmp_path, YAML, "reference_and_state_interfaces: [position, velocity]",
-                    "reference_and_state_interfaces: [velocity]", count=2)
-    failed = _failed(grade(9, task_root=root))
-    assert {"pids_command_effort_with_position_and_velocity_references", "activate_chain_connects"} <= failed
+def deactivate_chain(cm: ControllerManager) -> None:
+    running = [name for name in CHAIN if _states(cm).get(name) == "active"]
+    if running:
+        cm.switch_controllers(deactivate=running, strictness=2)
+'''
+
+RIGHT_CHAIN_SET_STATE = '''"""Task 9.2 with a helper per controller."""
+
+CHAIN = ["joint_trajectory_controller", "pid_controller_joint1", "pid_controller_joint2"]
 
 
-def test_jtc_commanding_the_hardware_is_not_a_chain(tmp_path: Path) -> None:
-    """Without command_joints the trajectory controller claims joint positions the simulation does not offer."""
-    root = _mutated(tmp_path, YAML,
-                    "    command_joints: [pid_controller_joint1/joint1, pid_controller_joint2/joint2]\n", "")
-    failed = _failed(grade(9, task_root=root))
-    assert {"trajectory_controller_commands_the_pids", "activate_chain_connects"} <= failed
+def state_of(cm, name):
+    for c in cm.list_controllers():
+        if c.name == name:
+            return c.state
+    return "unloaded"
 
 
-def test_activating_the_head_first_fails(tmp_path: Path) -> None:
-    """A separate switch for the trajectory controller before its PIDs is rejected by the controller manager."""
-    root = _mutated(
-        tmp_path, "chain.py",
-        "    if followers:\n        cm.switch_controllers(activate=followers, strictness=\"strict\")\n"
-        "    if loaded[CHAIN[0]] != \"active\":\n        cm.switch_controllers(activate=[CHAIN[0]], strictness=\"strict\")\n",
-        "    if loaded[CHAIN[0]] != \"active\":\n        cm.switch_controllers(activate=[CHAIN[0]], strictness=\"strict\")\n"
-        "    if followers:\n        cm.switch_controllers(activate=followers, strictness=\"strict\")\n",
-    )
-    failed = _failed(grade(9, task_root=root))
-    assert {"activate_chain_connects", "update_order_is_jazzy", "deactivate_chain",
-            "trajectory_is_tracked_through_the_chain"} <= failed
-    assert "gains_meet_the_step_specification" not in failed
+def activate_chain(cm):
+    head, *pids = CHAIN
+    for name in pids + [head]:
+        if state_of(cm, name) == "unloaded":
+            cm.load_controller(name)
+        if state_of(cm, name) == "unconfigured":
+            cm.configure_controller(name)
+    for name in pids:
+        if state_of(cm, name) != "active":
+            cm.switch_controllers(activate=[name], strictness="STRICT")
+    if state_of(cm, head) != "active":
+        cm.switch_controllers(activate=[head], strictness="STRICT")
 
 
-def test_stopping_the_pids_first_fails(tmp_path: Path) -> None:
-    """The PIDs cannot stop while the trajectory controller still claims their references."""
-    root = _mutated(
-        tmp_path, "chain.py",
-        "    if CHAIN[0] in active:\n        cm.switch_controllers(deactivate=[CHAIN[0]], strictness=\"strict\")\n"
-        "    followers = [name for name in CHAIN[1:] if name in active]\n",
-        "    followers = [name for name in CHAIN[1:] if name in active]\n"
-        "    if followers:\n        cm.switch_controllers(deactivate=followers, strictness=\"strict\")\n"
-        "    if CHAIN[0] in active:\n        cm.switch_controllers(deactivate=[CHAIN[0]], strictness=\"strict\")\n",
-    )
-    assert _failed(grade(9, task_root=root)) == {"deactivate_chain"}
+def deactivate_chain(cm):
+    for name in CHAIN:  # head first
+        if state_of(cm, name) == "active":
+            cm.switch_controllers(deactivate=[name], strictness="strict")
+'''
+
+RIGHT_YAML_FLOW = """controller_manager:
+  ros__parameters:
+    update_rate: 100
+    joint_trajectory_controller: {type: joint_trajectory_controller/JointTrajectoryController}
+    pid_controller_joint2: {type: pid_controller/PidController}
+    pid_controller_joint1: {type: pid_controller/PidController}
+    joint_state_broadcaster: {type: joint_state_broadcaster/JointStateBroadcaster}
+
+joint_trajectory_controller:
+  ros__parameters:
+    state_interfaces: [position, velocity]
+    command_interfaces: [position, velocity]
+    command_joints: [pid_controller_joint1/joint1, pid_controller_joint2/joint2]
+    joints: [joint1, joint2]
+
+pid_controller_joint2:
+  ros__parameters:
+    reference_and_state_interfaces: [position, velocity]
+    command_interface: effort
+    dof_names: [joint2]
+    gains: {joint2: {p: 400.0, i: 400.0, d: 12.0, i_clamp_max: 20.0, i_clamp_min: -20.0}}
+
+pid_controller_joint1:
+  ros__parameters:
+    reference_and_state_interfaces: [position, velocity]
+    command_interface: effort
+    dof_names: [joint1]
+    gains: {joint1: {p: 400.0, i: 120.0, d: 12.0, i_clamp_max: 20.0, i_clamp_min: -20.0}}
+"""
+
+RIGHT = [
+    Variant("one_switch_each_way_integer_strictness", {CHAIN: RIGHT_CHAIN_ONE_SWITCH}),
+    Variant("one_controller_per_switch", {CHAIN: RIGHT_CHAIN_SET_STATE}),
+    Variant("flow_yaml_other_order_stiffer_gains", {YAML: RIGHT_YAML_FLOW}),
+    Variant("block_lists_and_pid_at_loop_rate", {YAML: [
+        ("    dof_names: [joint1]\n", "    dof_names:\n      - joint1\n"),
+        ("    pid_controller_joint2:\n      type: pid_controller/PidController\n",
+         "    pid_controller_joint2:\n      type: pid_controller/PidController\n      update_rate: 100\n")]}),
+]
 
 
-@pytest.mark.parametrize(("gains", "why"), [
-    ("p: 100.0, i: 50.0, d: 10.0", "the exercise's starting gains settle too slowly"),
-    ("p: 300.0, i: 1000.0, d: 10.0", "too much integral action overshoots"),
-    ("p: 300.0, i: 0.0, d: 2.0", "too little damping rings"),
-])
-def test_untuned_gains_fail_the_specification(tmp_path: Path, gains: str, why: str) -> None:
-    root = _mutated(tmp_path, YAML, "joint1: {p: 300.0, i: 100.0, d: 10.0", "joint1: {" + gains)
-    assert "gains_meet_the_step_specification" in _failed(grade(9, task_root=root)), why
+@pytest.fixture(scope="module")
+def rubrics(tmp_path_factory: pytest.TempPathFactory) -> dict:
+    return grade_variants(9, WRONG + RIGHT, tmp_path_factory.mktemp("task09"))
+
+
+@pytest.mark.parametrize("variant", WRONG, ids=str)
+def test_wrong_solution_loses_points(rubrics: dict, variant: Variant) -> None:
+    assert_loses_points(rubrics[variant.name], variant)
+
+
+@pytest.mark.parametrize("variant", RIGHT, ids=str)
+def test_alternative_solution_gets_full_marks(rubrics: dict, variant: Variant) -> None:
+    assert_full_marks(rubrics[variant.name])

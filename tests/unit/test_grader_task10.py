@@ -1,64 +1,147 @@
-"""The task-10 grader fails plausible wrong solutions: each test grades a copy of the solution with one mistake."""
+"""The task-10 grader: wrong solutions, written as learners would, lose points; correct ones written differently get
+full marks. Each is a copy of ``solutions/`` with exact changes (see ``grader_variants``)."""
 
 from __future__ import annotations
 
-import shutil
-from pathlib import Path
-
 import pytest
+from grader_variants import Variant, assert_full_marks, assert_loses_points, grade_variants
 
 from rrbot_workshop.course import tracks
-from rrbot_workshop.course.grading import grade
 
 HAS_SOLUTIONS = (tracks.course_root() / "solutions").is_dir()
 pytestmark = pytest.mark.skipif(not HAS_SOLUTIONS, reason="this copy of the course has no solutions/")
 XACRO = "rrbot_on_diffbot_description/urdf/rrbot_on_diffbot.urdf.xacro"
 YAML = "rrbot_on_diffbot_bringup/config/rrbot_on_diffbot_controllers.yaml"
+ANSWERS = "answers.py"
+BASE_TAG = ('  <xacro:diffbot_ros2_control name="DiffBot" prefix="$(arg base_prefix)" '
+            'use_mock_hardware="$(arg use_mock_hardware)"/>\n')
+ARM_TAG = ('  <xacro:rrbot_ros2_control name="RRBot" prefix="$(arg arm_prefix)" '
+           'use_mock_hardware="$(arg use_mock_hardware)"/>\n')
+RUNNING = {"base_and_arm_move_together", "base_and_arm_are_independent"}
+
+WRONG = [
+    Variant("arm_on_the_base_link", {XACRO: [('parent="$(arg base_prefix)top_plate"', 'parent="$(arg base_prefix)base_link"')]},
+            fails={"both_robots_in_one_tree", "description_matches_the_task_for_any_arguments"}),
+    Variant("arm_at_the_plate_centre", {XACRO: [('<origin xyz="0.1 0 0" rpy="0 0 0"/>', '<origin xyz="0 0 0" rpy="0 0 0"/>')]},
+            fails={"both_robots_in_one_tree", "description_matches_the_task_for_any_arguments"}),
+    Variant("arm_towards_the_back", {XACRO: [('<origin xyz="0.1 0 0" rpy="0 0 0"/>', '<origin xyz="-0.1 0 0" rpy="0 0 0"/>')]},
+            fails={"both_robots_in_one_tree"}),
+    Variant("arm_parent_written_out", {XACRO: [('parent="$(arg base_prefix)top_plate"', 'parent="base_top_plate"')]},
+            fails={"both_robots_in_one_tree", "prefix_arguments_rename_everything"}),
+    Variant("base_prefix_written_out", {XACRO: [('<xacro:diffbot prefix="$(arg base_prefix)"/>', '<xacro:diffbot prefix="base_"/>')]},
+            fails={"prefix_arguments_rename_everything", "description_matches_the_task_for_any_arguments"}),
+    Variant("arm_component_with_the_base_prefix", {XACRO: [(ARM_TAG, ARM_TAG.replace("$(arg arm_prefix)", "$(arg base_prefix)"))]},
+            fails={"prefix_arguments_rename_everything", "two_hardware_components"} | RUNNING),
+    Variant("one_ros2_control_tag_for_both_robots", {XACRO: [(BASE_TAG, "")]},
+            fails={"two_hardware_components"} | RUNNING),
+    Variant("use_mock_hardware_left_to_the_macro_default", {XACRO: [(ARM_TAG, ARM_TAG.replace(
+        ' use_mock_hardware="$(arg use_mock_hardware)"', ""))]},
+            fails={"use_mock_hardware_reaches_both_components", "description_matches_the_task_for_any_arguments"}),
+    Variant("use_mock_hardware_written_as_true", {XACRO: [
+        (ARM_TAG, ARM_TAG.replace("$(arg use_mock_hardware)", "true")),
+        (BASE_TAG, BASE_TAG.replace("$(arg use_mock_hardware)", "true"))]},
+            fails={"use_mock_hardware_reaches_both_components"}),
+    Variant("world_link_added_as_root", {XACRO: [('  <xacro:diffbot prefix="$(arg base_prefix)"/>\n',
+        '  <link name="world"/>\n  <joint name="world_joint" type="fixed">\n    <parent link="world"/>\n'
+        '    <child link="$(arg base_prefix)base_link"/>\n  </joint>\n  <xacro:diffbot prefix="$(arg base_prefix)"/>\n')]},
+            fails={"both_robots_in_one_tree", "description_matches_the_task_for_any_arguments"}),
+    Variant("wrong_wheel_separation", {YAML: [("wheel_separation: 0.55", "wheel_separation: 0.5")]},
+            fails={"controllers_yaml"}),
+    Variant("wheel_diameter_for_radius", {YAML: [("wheel_radius: 0.1 ", "wheel_radius: 0.2 ")]},
+            fails={"controllers_yaml"}),
+    Variant("arm_controller_on_unprefixed_joints", {YAML: [("joints: [arm_joint1, arm_joint2]", "joints: [joint1, joint2]")]},
+            fails={"controllers_yaml"} | RUNNING),
+    Variant("base_controller_on_unprefixed_wheels", {YAML: [
+        ("left_wheel_names: [base_left_wheel_joint]", "left_wheel_names: [left_wheel_joint]"),
+        ("right_wheel_names: [base_right_wheel_joint]", "right_wheel_names: [right_wheel_joint]")]},
+            fails={"controllers_yaml"} | RUNNING),
+    Variant("arm_controller_commands_velocity", {YAML: [("    command_interfaces: [position]",
+                                                         "    command_interfaces: [velocity]")]},
+            fails={"controllers_yaml"}),
+    Variant("wheels_swapped", {YAML: [
+        ("left_wheel_names: [base_left_wheel_joint]", "left_wheel_names: [base_right_wheel_joint]"),
+        ("right_wheel_names: [base_right_wheel_joint]", "right_wheel_names: [base_left_wheel_joint]")]},
+            fails={"controllers_yaml"}),
+    Variant("one_component_counted", {ANSWERS: [("HARDWARE_COMPONENTS = 2", "HARDWARE_COMPONENTS = 1")]},
+            fails={"answer_hardware_components"}),
+    Variant("two_plugins_per_tag", {ANSWERS: [("PLUGINS_PER_ROS2_CONTROL_TAG = 1", "PLUGINS_PER_ROS2_CONTROL_TAG = 2")]},
+            fails={"answer_plugins_per_tag"}),
+    Variant("a_controller_manager_per_robot", {ANSWERS: [("CONTROLLER_MANAGERS = 1", "CONTROLLER_MANAGERS = 2")]},
+            fails={"answer_controller_managers"}),
+    Variant("answer_as_a_string", {ANSWERS: [("HARDWARE_COMPONENTS = 2", 'HARDWARE_COMPONENTS = "2"')]},
+            fails={"answer_hardware_components"}),
+]
+
+RIGHT_XACRO = """<?xml version="1.0"?>
+<robot name="mobile_manipulator" xmlns:xacro="http://www.ros.org/wiki/xacro">
+  <xacro:arg name="use_mock_hardware" default="true"/>
+  <xacro:arg name="arm_prefix" default="arm_"/>
+  <xacro:arg name="base_prefix" default="base_"/>
+
+  <xacro:include filename="$(find diffbot)/urdf/diffbot/diffbot_macro.xacro"/>
+  <xacro:include filename="$(find diffbot)/urdf/diffbot/diffbot_macro.ros2_control.xacro"/>
+  <xacro:include filename="$(find rrbot)/urdf/common.xacro"/>
+  <xacro:include filename="$(find rrbot)/urdf/rrbot/rrbot_macro.xacro"/>
+  <xacro:include filename="$(find rrbot)/urdf/rrbot/rrbot_macro.ros2_control.xacro"/>
+
+  <xacro:property name="mount_x" value="${0.2 / 2}"/>
+  <xacro:property name="mock" value="$(arg use_mock_hardware)"/>
+
+  <xacro:rrbot_ros2_control name="arm" prefix="$(arg arm_prefix)" use_mock_hardware="${mock}"/>
+  <xacro:diffbot_ros2_control name="base" prefix="$(arg base_prefix)" use_mock_hardware="${mock}"/>
+
+  <xacro:rrbot prefix="$(arg arm_prefix)" parent="$(arg base_prefix)top_plate">
+    <origin xyz="${mount_x} 0.0 0.0" rpy="0.0 0.0 0.0"/>
+  </xacro:rrbot>
+  <xacro:diffbot prefix="$(arg base_prefix)"/>
+</robot>
+"""
+
+RIGHT_YAML = """controller_manager:
+  ros__parameters:
+    update_rate: 100
+    joint_trajectory_controller: {type: joint_trajectory_controller/JointTrajectoryController}
+    diffbot_base_controller: {type: diff_drive_controller/DiffDriveController}
+    joint_state_broadcaster: {type: joint_state_broadcaster/JointStateBroadcaster}
+
+joint_trajectory_controller:
+  ros__parameters:
+    joints: [arm_joint1, arm_joint2]
+    command_interfaces: [position]
+    state_interfaces: [position, velocity]
+
+diffbot_base_controller:
+  ros__parameters:
+    left_wheel_names: [base_left_wheel_joint]
+    right_wheel_names: [base_right_wheel_joint]
+    wheel_separation: 0.550
+    wheel_radius: 1.0e-1
+    base_frame_id: base_base_link
+"""
+
+RIGHT = [
+    Variant("other_order_properties_other_component_names", {XACRO: RIGHT_XACRO}),
+    Variant("flow_yaml_defaults_left_out", {YAML: RIGHT_YAML}),
+    Variant("arm_turned_sideways", {XACRO: [('<origin xyz="0.1 0 0" rpy="0 0 0"/>', '<origin xyz="0.1 0 0" rpy="0 0 ${pi/2}"/>')]}),
+    Variant("answers_computed", {ANSWERS: (
+        '"""Task 10 answers."""\n\nTAGS = ["DiffBot", "RRBot"]\nHARDWARE_COMPONENTS = len(TAGS)\n'
+        'PLUGINS_PER_ROS2_CONTROL_TAG = 1\nCONTROLLER_MANAGERS = int(1.0)\n')}),
+    Variant("block_lists_and_explicit_constraints", {YAML: [
+        ("    joints: [arm_joint1, arm_joint2]\n", "    joints:\n      - arm_joint1\n      - arm_joint2\n"),
+        ("    state_interfaces: [position, velocity]\n", "    state_interfaces: [velocity, position]\n")]}),
+]
 
 
-def _failed_with(tmp_path: Path, file: str, old: str, new: str) -> set[str]:
-    source = tracks.task_dir(10, "solutions")
-    copy = tmp_path / source.name
-    shutil.copytree(source, copy, ignore=shutil.ignore_patterns("__pycache__"))
-    path = copy / file
-    text = path.read_text()
-    assert text.count(old) == 1, f"mutation {old!r} applies {text.count(old)} times to {path}"
-    path.write_text(text.replace(old, new))
-    return {c.name for c in grade(10, task_root=tmp_path).checks if not c.passed}
+@pytest.fixture(scope="module")
+def rubrics(tmp_path_factory: pytest.TempPathFactory) -> dict:
+    return grade_variants(10, WRONG + RIGHT, tmp_path_factory.mktemp("task10"))
 
 
-def test_arm_on_the_base_link_instead_of_the_top_plate(tmp_path: Path) -> None:
-    failed = _failed_with(tmp_path, XACRO, 'parent="$(arg base_prefix)top_plate"', 'parent="$(arg base_prefix)base_link"')
-    assert failed == {"both_robots_in_one_tree"}
+@pytest.mark.parametrize("variant", WRONG, ids=str)
+def test_wrong_solution_loses_points(rubrics: dict, variant: Variant) -> None:
+    assert_loses_points(rubrics[variant.name], variant)
 
 
-def test_arm_at_the_plate_centre(tmp_path: Path) -> None:
-    failed = _failed_with(tmp_path, XACRO, '<origin xyz="0.1 0 0" rpy="0 0 0"/>', '<origin xyz="0 0 0" rpy="0 0 0"/>')
-    assert failed == {"both_robots_in_one_tree"}
-
-
-def test_prefix_written_out_instead_of_the_argument(tmp_path: Path) -> None:
-    failed = _failed_with(tmp_path, XACRO, '<xacro:diffbot prefix="$(arg base_prefix)"/>', '<xacro:diffbot prefix="base_"/>')
-    assert "prefix_arguments_rename_everything" in failed
-
-
-def test_one_ros2_control_tag_for_both_robots(tmp_path: Path) -> None:
-    failed = _failed_with(
-        tmp_path, XACRO,
-        '  <xacro:diffbot_ros2_control name="DiffBot" prefix="$(arg base_prefix)" use_mock_hardware="$(arg use_mock_hardware)"/>\n',
-        "")
-    assert {"two_hardware_components", "base_and_arm_move_together", "base_and_arm_are_independent"} <= failed
-
-
-def test_wrong_wheel_separation(tmp_path: Path) -> None:
-    failed = _failed_with(tmp_path, YAML, "wheel_separation: 0.55", "wheel_separation: 0.5")
-    assert failed == {"controllers_yaml"}
-
-
-def test_arm_controller_on_unprefixed_joints(tmp_path: Path) -> None:
-    failed = _failed_with(tmp_path, YAML, "joints: [arm_joint1, arm_joint2]", "joints: [joint1, joint2]")
-    assert {"controllers_yaml", "base_and_arm_move_together"} <= failed
-
-
-def test_one_component_counted(tmp_path: Path) -> None:
-    assert _failed_with(tmp_path, "answers.py", "HARDWARE_COMPONENTS = 2", "HARDWARE_COMPONENTS = 1") == {"answers"}
+@pytest.mark.parametrize("variant", RIGHT, ids=str)
+def test_alternative_solution_gets_full_marks(rubrics: dict, variant: Variant) -> None:
+    assert_full_marks(rubrics[variant.name])
