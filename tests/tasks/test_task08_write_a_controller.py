@@ -142,8 +142,16 @@ class Rig:
         for joint, value in zip(self.read, values, strict=True):
             self.h.states[f"{joint}/{self.interface}"].set_value(value)
 
-    def jog(self, names: Sequence[str], displacements: Sequence[float]) -> None:
-        self.h.publish("~/reference", JointJog(joint_names=list(names), displacements=list(displacements)))
+    def jog(self, names: Sequence[str], displacements: Sequence[float]) -> BaseException | None:
+        """Publish a JointJog on ``~/reference``; the exception its callback raised (the bus logs it), if any."""
+        caught = _Lines(logging.ERROR)
+        bus_log = logging.getLogger("rrbot_workshop.middleware.topics")
+        bus_log.addHandler(caught)
+        try:
+            self.h.publish("~/reference", JointJog(joint_names=list(names), displacements=list(displacements)))
+        finally:
+            bus_log.removeHandler(caught)
+        return caught.raised[0] if caught.raised else None
 
     def slow(self, on: bool) -> Any:
         return self.h.bus.call_service(f"/{self.h.name}/set_slow_control_mode", SetBoolRequest(data=on))
@@ -176,19 +184,33 @@ def _refused(rig: Rig, names: Sequence[str], displacements: Sequence[float]) -> 
     root = logging.getLogger()
     root.addHandler(caught)
     try:
-        rig.jog(names, displacements)
+        _jog(rig, names, displacements)
     finally:
         root.removeHandler(caught)
     return caught.lines
 
 
 class _Lines(logging.Handler):
+    """Keeps the messages logged, and the exceptions logged with their traceback."""
+
     def __init__(self, level: int) -> None:
         super().__init__(level)
         self.lines: list[str] = []
+        self.raised: list[BaseException] = []
 
     def emit(self, record: logging.LogRecord) -> None:
         self.lines.append(record.getMessage())
+        if record.exc_info and record.exc_info[1] is not None:
+            self.raised.append(record.exc_info[1])
+
+
+def _jog(rig: Rig, names: Sequence[str], displacements: Sequence[float]) -> None:
+    """Publish a JointJog to the learner's controller; a callback that raised fails the check, naming the line."""
+    raised = rig.jog(names, displacements)
+    if raised is not None:
+        pytest.fail(f"{_where(raised)}. A JointJog naming {list(names)} with {list(displacements)} made your "
+                    "_on_reference raise: a message the controller cannot use is refused with a logged reason "
+                    "(and changes nothing), never with an exception", pytrace=False)
 
 
 # --------------------------------------------------------------------------------------------- 8.1 parameters
@@ -358,11 +380,11 @@ def test_topics_and_service(learner: ModuleType) -> None:
 ))
 def test_displacements_matched_by_name(learner: ModuleType) -> None:
     rig = _rig(learner).start()
-    rig.jog(["joint2", "joint1"], [1.0, 10.0])
+    _jog(rig, ["joint2", "joint1"], [1.0, 10.0])
     rig.update()
     _expect(rig, [1.1 + 10.0, 2.2 + 1.0], "a JointJog naming ['joint2', 'joint1'] with [1.0, 10.0]")
     rig = _rig(learner, joints=["shoulder", "elbow", "wrist"]).start()
-    rig.jog(["wrist", "shoulder", "elbow"], [0.3, -0.1, 0.2])
+    _jog(rig, ["wrist", "shoulder", "elbow"], [0.3, -0.1, 0.2])
     rig.update()
     _expect(rig, [1.1 - 0.1, 2.2 + 0.2, 3.3 + 0.3], "a JointJog naming ['wrist', 'shoulder', 'elbow'] with [0.3, -0.1, 0.2]")
 
@@ -370,7 +392,7 @@ def test_displacements_matched_by_name(learner: ModuleType) -> None:
 def _try_refused(rig: Rig, messages: Sequence[tuple[list[str], list[float]]]) -> None:
     before = rig.commands()
     for names, values in messages:
-        rig.jog(names, values)
+        _jog(rig, names, values)
         rig.update()
         _expect(rig, before, f"a JointJog naming {names} with {values} must be refused and change nothing")
     assert rig.controller.get_lifecycle_state() is State.ACTIVE, "a refused message must leave the controller active"
@@ -418,9 +440,9 @@ def test_unknown_or_repeated_joint_refused(learner: ModuleType) -> None:
 ))
 def test_refused_message_keeps_the_pending_one(learner: ModuleType) -> None:
     rig = _rig(learner).start()
-    rig.jog(["joint1", "joint2"], [0.4, -0.4])
+    _jog(rig, ["joint1", "joint2"], [0.4, -0.4])
     for names, values in ((["joint1"], [9.0]), (["joint1", "joint1"], [9.0, 9.0]), (["joint1", "joint2"], [9.0])):
-        rig.jog(names, values)
+        _jog(rig, names, values)
     rig.update()
     _expect(rig, [1.1 + 0.4, 2.2 - 0.4], "a valid JointJog [0.4, -0.4], then three refused ones, then an update")
 
@@ -447,8 +469,8 @@ def test_refusal_logged(learner: ModuleType) -> None:
 ))
 def test_newer_message_replaces_pending(learner: ModuleType) -> None:
     rig = _rig(learner).start()
-    rig.jog(["joint1", "joint2"], [0.5, 0.5])
-    rig.jog(["joint2", "joint1"], [-0.2, 0.3])
+    _jog(rig, ["joint1", "joint2"], [0.5, 0.5])
+    _jog(rig, ["joint2", "joint1"], [-0.2, 0.3])
     rig.update()
     _expect(rig, [1.1 + 0.3, 2.2 - 0.2], "two JointJogs, [0.5, 0.5] then {joint2: -0.2, joint1: 0.3}, before an update")
 
@@ -465,7 +487,7 @@ def test_slow_mode(learner: ModuleType) -> None:
     expected = rig.states()
 
     def jog(values: list[float], factor: float, what: str) -> None:
-        rig.jog(rig.joints, values)
+        _jog(rig, rig.joints, values)
         rig.update()
         for i, value in enumerate(values):
             expected[i] = rig.states()[i] + factor * value
@@ -483,7 +505,7 @@ def test_slow_mode(learner: ModuleType) -> None:
         jog([0.5, -1.0, 3.0], factor, f"{said}, a JointJog [0.5, -1.0, 3.0] ({'halved' if flag else 'not halved'})")
         jog([0.2, 0.2, 0.2], factor, f"{said}, a second JointJog [0.2, 0.2, 0.2]")
     rig.slow(False)
-    rig.jog(rig.joints, [1.0, 1.0, 1.0])
+    _jog(rig, rig.joints, [1.0, 1.0, 1.0])
     rig.slow(True)
     rig.update()
     expected = [s + 0.5 for s in rig.states()]
@@ -504,17 +526,17 @@ def test_slow_mode(learner: ModuleType) -> None:
 ))
 def test_command_is_state_plus_displacement(learner: ModuleType) -> None:
     rig = _rig(learner).start()
-    rig.jog(["joint1", "joint2"], [23.24, 1.0])
+    _jog(rig, ["joint1", "joint2"], [23.24, 1.0])
     rig.update()
     _expect(rig, [1.1 + 23.24, 2.2 + 1.0], "a JointJog [23.24, 1.0] with the states at [1.1, 2.2]")
     rig = _rig(learner, joints=["shoulder", "elbow", "wrist"], interface="velocity",
                state_joints=["s_shoulder", "s_elbow", "s_wrist"], states=[0.5, -0.25, 2.0]).start()
-    rig.jog(["shoulder", "elbow", "wrist"], [0.1, 0.2, -0.3])
+    _jog(rig, ["shoulder", "elbow", "wrist"], [0.1, 0.2, -0.3])
     rig.set_states([-1.0, 4.0, 0.75])
     rig.update()
     _expect(rig, [-1.0 + 0.1, 4.0 + 0.2, 0.75 - 0.3],
             "a JointJog [0.1, 0.2, -0.3], then the state joints move to [-1.0, 4.0, 0.75] before the update")
-    rig.jog(["shoulder", "elbow", "wrist"], [0.0, 0.0, 0.0])
+    _jog(rig, ["shoulder", "elbow", "wrist"], [0.0, 0.0, 0.0])
     rig.set_states([2.0, 2.5, 3.0])
     rig.update()
     _expect(rig, [2.0, 2.5, 3.0], "a JointJog of zeros with the states at [2.0, 2.5, 3.0] (the joints hold where they "
@@ -529,7 +551,7 @@ def test_command_is_state_plus_displacement(learner: ModuleType) -> None:
 ))
 def test_displacement_used_once(learner: ModuleType) -> None:
     rig = _rig(learner, joints=["joint1", "joint2", "joint3"]).start()
-    rig.jog(["joint1", "joint2", "joint3"], [0.5, -0.5, 0.25])
+    _jog(rig, ["joint1", "joint2", "joint3"], [0.5, -0.5, 0.25])
     rig.update()
     first = rig.commands()
     rig.set_states(first)  # the joints got there
@@ -572,7 +594,7 @@ def test_state_published(learner: ModuleType) -> None:
     rig.set_states([0.5, -2.0])
     rig.update()
     check("after an update with no message", 0.0, 0.5)
-    rig.jog(["shoulder", "elbow"], [1.0, 0.25])
+    _jog(rig, ["shoulder", "elbow"], [1.0, 0.25])
     rig.update()
     check("after an update that applied a JointJog {shoulder: 1.0, elbow: 0.25}", 0.75, 0.5)
     rig.set_states([0.7, -2.0])
@@ -609,13 +631,13 @@ def test_state_time_step_is_the_period(learner: ModuleType) -> None:
 def test_activation_forgets_earlier_messages(learner: ModuleType) -> None:
     rig = _rig(learner, joints=["joint1", "joint2", "joint3"])
     assert rig.configure() is State.INACTIVE, "configure did not succeed"
-    rig.jog(["joint1", "joint2", "joint3"], [3.0, 3.0, 3.0])
+    _jog(rig, ["joint1", "joint2", "joint3"], [3.0, 3.0, 3.0])
     assert rig.activate() is State.ACTIVE, "activate did not succeed"
     rig.update()
     _expect(rig, [0.0, 0.0, 0.0], "a JointJog received before the first activation, then an update")
-    rig.jog(["joint1", "joint2", "joint3"], [1.0, 1.0, 1.0])
+    _jog(rig, ["joint1", "joint2", "joint3"], [1.0, 1.0, 1.0])
     assert rig.deactivate() is State.INACTIVE, "deactivate did not succeed"
-    rig.jog(["joint3", "joint2", "joint1"], [2.0, 2.0, 2.0])
+    _jog(rig, ["joint3", "joint2", "joint1"], [2.0, 2.0, 2.0])
     rig.set_commands([0.0, 0.0, 0.0])  # the NaN of deactivation, back to 0.0 to see any move
     assert rig.activate() is State.ACTIVE, "activating again after a deactivation did not succeed"
     rig.update()
@@ -631,7 +653,7 @@ def test_activation_forgets_earlier_messages(learner: ModuleType) -> None:
 def test_nan_commands_on_deactivate(learner: ModuleType) -> None:
     for joints, interface in ((["joint1", "joint2"], "position"), (["shoulder", "elbow", "wrist"], "velocity")):
         rig = _rig(learner, joints=joints, interface=interface).start()
-        rig.jog(joints, [0.4] * len(joints))
+        _jog(rig, joints, [0.4] * len(joints))
         rig.update()
         state = rig.deactivate()
         assert state is State.INACTIVE, f"deactivate with {rig.describe()} did not succeed: '{state.label}'"
@@ -649,14 +671,14 @@ def test_nan_commands_on_deactivate(learner: ModuleType) -> None:
 ))
 def test_reactivation_works(learner: ModuleType) -> None:
     rig = _rig(learner).start()
-    rig.jog(["joint1", "joint2"], [0.1, 0.1])
+    _jog(rig, ["joint1", "joint2"], [0.1, 0.1])
     rig.update()
     for round_ in (1, 2):
         assert rig.deactivate() is State.INACTIVE, "deactivate did not succeed"
         assert rig.activate() is State.ACTIVE, f"activating again (time {round_}) did not succeed"
         states = [1.0 * round_, -1.0 * round_]
         rig.set_states(states)
-        rig.jog(["joint2", "joint1"], [0.5, 0.25])
+        _jog(rig, ["joint2", "joint1"], [0.5, 0.25])
         before = rig.latest_state()
         rig.update()
         _expect(rig, [states[0] + 0.25, states[1] + 0.5], f"after deactivation and activation number {round_}, a "
@@ -793,7 +815,9 @@ def _run_scenario(cls: type, setup: Setup, steps: Sequence[Step]) -> None:
             for rig in (ref, mine):
                 try:
                     if step[0] == "jog":
-                        rig.jog(step[1], step[2])
+                        raised = rig.jog(step[1], step[2])
+                        if raised is not None and rig is mine:
+                            raise raised
                     elif step[0] == "slow":
                         rig.slow(step[1])
                     elif step[0] == "move":
