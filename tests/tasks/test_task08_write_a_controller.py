@@ -23,6 +23,7 @@ compared to 1e-9 (the task's arithmetic is exact).
 
 from __future__ import annotations
 
+import functools
 import logging
 import math
 import traceback
@@ -168,8 +169,36 @@ class Rig:
         return self.h.latest("~/state")
 
 
+_log = logging.getLogger("rrbot_workshop.course.grading.task08")
+
+
+@functools.cache
+def _watched(cls: type) -> type:
+    """``cls`` whose lifecycle callbacks log, with its traceback, what they raise before the library catches it (as
+    ros2_control does, it turns it into ERROR): the grading puts the learner's own line first in the reason."""
+
+    def watch(name: str) -> Callable[..., Any]:
+        original = getattr(cls, name)
+
+        def callback(self: Any, previous_state: Any) -> Any:
+            try:
+                return original(self, previous_state)
+            except Exception:
+                _log.error("%s of your %s raised", name, FILE, exc_info=True)
+                raise
+
+        return callback
+
+    return type(cls.__name__, (cls,), {"__module__": cls.__module__,
+                                       **{n: watch(n) for n in ("on_configure", "on_activate", "on_deactivate")}})
+
+
+def _new(learner: ModuleType) -> Any:
+    return _watched(learner.DisplacementController)()
+
+
 def _rig(learner: ModuleType, **kwargs: Any) -> Rig:
-    return Rig(learner.DisplacementController(), **kwargs)
+    return Rig(_new(learner), **kwargs)
 
 
 def _expect(rig: Rig, expected: Sequence[float], what: str) -> None:
@@ -284,14 +313,14 @@ def test_schema_refuses_bad_values(learner: ModuleType) -> None:
                         ({"joints": ["a", "b"], "state_joints": ["s", "s"], "interface_name": "position"},
                          "state_joints repeats s")):
         try:
-            ControllerHarness(learner.DisplacementController(), NAME, params)
+            ControllerHarness(_new(learner), NAME, params)
         except ParameterError:
             continue
         pytest.fail(f"parameters {params} loaded, but {why}: the schema must refuse them", pytrace=False)
     for params in ({"joints": ["a"], "interface_name": "position"},
                    {"joints": ["a", "b", "c"], "state_joints": ["x", "y", "z"], "interface_name": "velocity"}):
         try:
-            ControllerHarness(learner.DisplacementController(), NAME, params)
+            ControllerHarness(_new(learner), NAME, params)
         except ParameterError as err:
             pytest.fail(f"parameters {params} are valid, but loading refused them: {err}", pytrace=False)
 
@@ -342,7 +371,7 @@ def test_state_joints_of_another_size_fail_configure(learner: ModuleType) -> Non
     for joints, state_joints in ((["joint1", "joint2"], ["s1"]), (["joint1", "joint2"], ["s1", "s2", "s3"]),
                                  (["a"], ["x", "y"]), (["a", "b", "c"], ["x", "y"])):
         params = {"joints": joints, "state_joints": state_joints, "interface_name": "position"}
-        h = ControllerHarness(learner.DisplacementController(), NAME, params)
+        h = ControllerHarness(_new(learner), NAME, params)
         state = h.configure()
         assert state is State.UNCONFIGURED, (
             f"configure with {len(joints)} joints {joints} and {len(state_joints)} state joints {state_joints} must "
