@@ -54,7 +54,7 @@ WRONG = [
                    "        for name, displacement in zip(msg.joint_names, msg.displacements):\n"
                    "            pending[self.joints.index(name)] = float(displacement)\n"
                    "        self.displacements = pending\n")]},
-            fails={"unknown_or_repeated_joint_refused"}),
+            fails={"unknown_or_repeated_joint_refused", SCENARIOS}),
     Variant("unknown_joint_raises_in_the_callback",
             {PY: [("        if sorted(msg.joint_names) != sorted(self.joints):\n", "        if False:\n")]},
             fails={"unknown_or_repeated_joint_refused"}, names_file=PY),
@@ -66,7 +66,7 @@ WRONG = [
             {PY: [("    def _on_reference(self, msg: JointJog) -> None:\n",
                    "    def _on_reference(self, msg: JointJog) -> None:\n"
                    "        self.displacements = [math.nan] * len(self.joints)\n")]},
-            fails={"refused_message_keeps_the_pending_one"}),
+            fails={"refused_message_keeps_the_pending_one", SCENARIOS}),
     Variant("refusal_printed_not_logged",
             {PY: [('            self.logger.error("rejected a JointJog with %d', '            print("rejected a JointJog with %d'),
                   ('            self.logger.error("rejected a JointJog for joints', '            print("rejected a JointJog for joints')]},
@@ -105,7 +105,7 @@ WRONG = [
                    "self.displacements = [float(by_name[joint]) * (0.5 if self.slow_mode else 1.0) "
                    "for joint in self.joints]"),
                   ("factor = 0.5 if self.slow_mode else 1.0", "factor = 1.0")]},
-            fails={"slow_mode"}),
+            fails={"slow_mode", SCENARIOS}),
     Variant("messages_before_activation_applied",
             {PY: [("        self.displacements = [math.nan] * len(self.joints)  # nothing received before activation "
                    "is applied\n", "")]},
