@@ -774,7 +774,7 @@ def _realize(setup: Setup, raw: Sequence[tuple[Any, ...]]) -> list[Step]:
         if kind == "jog":
             if flag:  # the controller's joints, in an order of the draw's choosing
                 keys = [*picks, *range(len(joints))][: len(joints)]
-                names = [j for _, _, j in sorted(zip(keys, range(len(joints)), joints))]
+                names = [j for _, _, j in sorted(zip(keys, range(len(joints)), joints, strict=True))]
             else:  # any names, unknown and repeated ones included
                 names = [named[k % len(named)] for k in picks]
             count = max(0, min(4, len(names) + extra))
@@ -1053,7 +1053,7 @@ def test_moves_the_rrbot(learner: ModuleType, task_file: Callable[[int, str], Pa
     slower = _yaml(task_file)
     slower.update_rate = 200
     slower.controller_parameters.setdefault("displacement_controller", {})["update_rate"] = 50
-    state = _on_the_robot(slower, moves, f"with the loop at 200 Hz and displacement_controller at 50 Hz")
+    state = _on_the_robot(slower, moves, "with the loop at 200 Hz and displacement_controller at 50 Hz")
     assert state is not None and _close(float(state.time_step), 0.02), (
         "with the loop at 200 Hz and displacement_controller at update_rate 50, ~/state's time_step is "
         f"{getattr(state, 'time_step', None)!r}; it should be the controller's period, 0.02 s")

@@ -1,8 +1,8 @@
+# ruff: noqa  (written as a learner would, not to the library's lint rules)
 """Task 8, written differently: pending displacements kept by joint name (None: none), loops, slow mode as a factor."""
 
 from __future__ import annotations
 
-import math
 from typing import ClassVar
 
 from rrbot_workshop.controller_interface import (
