@@ -20,7 +20,6 @@ from __future__ import annotations
 import asyncio
 import logging
 import time as _wall
-import traceback
 from typing import Any
 
 from rrbot_workshop.exceptions import HardwareError
@@ -99,7 +98,7 @@ class BackgroundSpinner:
             pass
         except Exception as exc:  # noqa: BLE001 - the kernel must live on; the error is kept and logged
             self.error = exc
-            _log.error("the background loop of system '%s' stopped:\n%s", system.name, traceback.format_exc())
+            _log.error("the background loop of system '%s' stopped", system.name, exc_info=True)
 
     def __repr__(self) -> str:
         state = "spinning" if self.running else "stopped"

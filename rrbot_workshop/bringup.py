@@ -19,7 +19,6 @@ from __future__ import annotations
 import itertools
 import logging
 import sys
-import traceback
 import types
 from collections.abc import Iterable, Mapping
 from pathlib import Path
@@ -139,7 +138,7 @@ class System:
             try:
                 listener(self)
             except Exception:  # noqa: BLE001 - a panel's redraw must not stop the robot
-                _log.error("spin listener %r raised:\n%s", listener, traceback.format_exc())
+                _log.error("spin listener %r raised", listener, exc_info=True)
         return self.clock.now()
 
     def add_spin_listener(self, fn: Any) -> Any:

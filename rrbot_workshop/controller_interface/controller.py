@@ -13,7 +13,6 @@ from __future__ import annotations
 
 import enum
 import logging
-import traceback
 from dataclasses import dataclass, field
 from typing import Any, ClassVar
 
@@ -148,7 +147,7 @@ class ControllerInterface:
         except ParameterError:
             raise
         except Exception as exc:  # noqa: BLE001
-            self.logger.error("on_init of '%s' raised:\n%s", controller_name, traceback.format_exc())
+            self.logger.error("on_init of '%s' raised", controller_name, exc_info=True)
             raise ControllerError(f"controller '{controller_name}' failed in on_init: {exc}") from exc
         if result is CallbackReturn.SUCCESS:
             self._state = State.UNCONFIGURED
@@ -259,7 +258,7 @@ class ControllerInterface:
         try:
             result = getattr(self, name)(previous)
         except Exception:  # noqa: BLE001 - learner code must not kill the manager
-            self.logger.error("%s of '%s' raised:\n%s", name, self.get_name(), traceback.format_exc())
+            self.logger.error("%s of '%s' raised", name, self.get_name(), exc_info=True)
             return CallbackReturn.ERROR
         if not isinstance(result, CallbackReturn):
             self.logger.error(

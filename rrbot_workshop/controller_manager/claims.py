@@ -11,7 +11,6 @@ controller's exported interfaces available or unavailable.
 from __future__ import annotations
 
 import logging
-import traceback
 from typing import TYPE_CHECKING
 
 from rrbot_workshop.controller_interface.base import InterfaceConfigurationType
@@ -55,7 +54,7 @@ class InterfaceClaims:
         try:
             cfg = ctrl.command_interface_configuration() if kind == "command" else ctrl.state_interface_configuration()
         except Exception:  # noqa: BLE001
-            _log.error("%s_interface_configuration of '%s' raised:\n%s", kind, spec.name, traceback.format_exc())
+            _log.error("%s_interface_configuration of '%s' raised", kind, spec.name, exc_info=True)
             return []
         # learner code returning something else: needs nothing
         if not hasattr(cfg, "type") or not hasattr(cfg, "names"):

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import logging
-import traceback
 from collections.abc import Callable
 
 __all__ = ["CycleHook", "CycleHooks"]
@@ -37,4 +36,4 @@ class CycleHooks:
                 try:
                     hook(time, period)
                 except Exception:  # noqa: BLE001 - a plotting hook must not stop the robot
-                    _log.error("cycle hook %r raised:\n%s", hook, traceback.format_exc())
+                    _log.error("cycle hook %r raised", hook, exc_info=True)

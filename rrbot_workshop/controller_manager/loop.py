@@ -14,7 +14,6 @@ what they stop is :class:`~rrbot_workshop.controller_manager.failures.FailurePat
 from __future__ import annotations
 
 import logging
-import traceback
 from collections.abc import Callable, Mapping
 from time import perf_counter
 from typing import Any
@@ -147,7 +146,7 @@ class ControllerLoop:
 
 def _raised(name: str) -> ReturnType:
     """What the loop does with an exception from ``update`` when it handles exceptions (called in the handler)."""
-    _log.error("update of controller '%s' raised:\n%s", name, traceback.format_exc())
+    _log.error("update of controller '%s' raised", name, exc_info=True)
     return ReturnType.ERROR
 
 

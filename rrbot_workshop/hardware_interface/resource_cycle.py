@@ -11,7 +11,6 @@ the names of the components taken out are reported.
 from __future__ import annotations
 
 import logging
-import traceback
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Any
@@ -191,7 +190,7 @@ class HardwareCycle:
 
 def _raised(which: str, entry: ComponentEntry) -> ReturnType:
     """What the cycle does with an exception the wrapper or ``settle`` let through (called in the handler)."""
-    _log.error("%s of hardware '%s' raised:\n%s", which, entry.info.name, traceback.format_exc())
+    _log.error("%s of hardware '%s' raised", which, entry.info.name, exc_info=True)
     return ReturnType.ERROR
 
 

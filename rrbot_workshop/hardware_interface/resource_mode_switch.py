@@ -10,7 +10,6 @@ resource manager keeps that reason in ``last_switch_error``.
 from __future__ import annotations
 
 import logging
-import traceback
 from collections.abc import Iterable, Sequence
 from typing import Any
 
@@ -127,5 +126,5 @@ def _call_hook(entry: ComponentEntry, hook: str, start: list[str], stop: list[st
     try:
         return getattr(entry.component, hook)(start, stop)
     except Exception:  # noqa: BLE001 - learner code must not take the manager down
-        _log.error("%s of hardware '%s' raised:\n%s", hook, entry.info.name, traceback.format_exc())
+        _log.error("%s of hardware '%s' raised", hook, entry.info.name, exc_info=True)
         return ReturnType.ERROR
