@@ -61,3 +61,23 @@ def test_the_check_finds_paths_of_every_kind(tmp_path: Path) -> None:
     path.write_text(json.dumps({"cells": [{"cell_type": "code", "outputs": outputs}]}))
     found = absolute_paths(path)
     assert len(found) == 3 and all(f.startswith("cell 0: ") for f in found)
+
+
+@pytest.mark.parametrize("notebook", NOTEBOOKS, ids=lambda p: p.stem)
+def test_cells_showing_what_a_prediction_asks_store_no_output_and_are_not_compared(notebook: Path) -> None:
+    """A cell tagged ``outcome`` runs what a prediction exercise (tasks 6 and 14) asks about: a learner opening the
+    notebook must not find the answer in it, so it is stored without output and nbval does not compare it."""
+    for index, cell in enumerate(json.loads(notebook.read_text(encoding="utf-8"))["cells"]):
+        tags = cell.get("metadata", {}).get("tags", [])
+        if "outcome" in tags:
+            assert not cell.get("outputs"), f"{notebook.name} cell {index} stores an outcome"
+            assert "nbval-ignore-output" in tags, f"{notebook.name} cell {index}: nbval would compare its output"
+
+
+def test_notebook_06_keeps_its_outcomes_out_of_sight() -> None:
+    cells = json.loads((ROOT / "notebooks" / "06_lifecycle.ipynb").read_text(encoding="utf-8"))["cells"]
+    tagged = ["".join(c["source"]) for c in cells if "outcome" in c.get("metadata", {}).get("tags", [])]
+    # the hardware taken to inactive, a cleanup and an unload, a conflicting activation: what the predictions ask
+    assert any("set_hardware_component_state rrbot inactive" in s for s in tagged)
+    assert any("set_controller_state joint_trajectory_controller unconfigured" in s for s in tagged)
+    assert any('panel.buttons["activate"].click()' in s for s in tagged)
