@@ -9,6 +9,7 @@
 
 from __future__ import annotations
 
+import hashlib
 import json
 import os
 import shutil
@@ -37,12 +38,23 @@ def _env() -> dict[str, str]:
     return env
 
 
+def _share_venv(target: Path) -> None:
+    """Point ``target``'s ``.venv`` at this checkout's, which must be set up for this ``pyproject.toml``: a stale one
+    would make the copy's set-up reinstall into it, through the link, from a folder the test then deletes."""
+    stamp = ROOT / ".venv" / ".installed"
+    want = hashlib.sha256((ROOT / "pyproject.toml").read_bytes()).hexdigest()
+    if not stamp.is_file() or stamp.read_text().strip() != want:
+        pytest.fail("this checkout's .venv is not set up for its pyproject.toml: run ./workshop test once first",
+                    pytrace=False)
+    (target / ".venv").symlink_to(ROOT / ".venv")
+
+
 @pytest.fixture(scope="module")
 def clone(tmp_path_factory: pytest.TempPathFactory) -> Path:
     """A fresh clone of this repository's HEAD that shares this checkout's installed environment."""
     target = tmp_path_factory.mktemp("learner") / "course"
     subprocess.run(["git", "clone", "-q", str(ROOT), str(target)], check=True, env=_env())
-    (target / ".venv").symlink_to(ROOT / ".venv")  # already set up: no second installation
+    _share_venv(target)  # already set up: no second installation
     return target
 
 
@@ -182,7 +194,7 @@ def test_student_copy_from_a_solved_tree_has_the_pristine_exercises(clone: Path,
                             cwd=target, env=env, capture_output=True, text=True)
     data = json.loads(graded.stdout)
     assert data["score"] < data["max_score"], "the untouched exercise of the copy got full marks"
-    (target / ".venv").symlink_to(ROOT / ".venv")  # the course's environment, already set up
+    _share_venv(target)  # the course's environment, already set up
     tests = subprocess.run([sys.executable, "workshop.py", "test", "-q", "-p", "no:cacheprovider",
                             "tests/unit/test_graders.py", "tests/unit/test_tracks.py"],
                            cwd=target, env=env, capture_output=True, text=True)
