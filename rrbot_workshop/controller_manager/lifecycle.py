@@ -129,6 +129,8 @@ class ControllerLifecycle:
         if spec.state is State.INACTIVE:
             self.cleanup(name)
             self._activity.check()
+        self._rm.remove_controller_reference_interfaces(name)  # left over when on_error made it unconfigured
+        self._rm.remove_controller_exported_state_interfaces(name)
         self._shutdown(spec)
         del self._controllers[name]
         self._chains.unloaded(name)
@@ -193,6 +195,10 @@ class ControllerLifecycle:
             raise ControllerError(f"controller '{name}' is active and cannot be configured; deactivate it first")
         if spec.state is not State.UNCONFIGURED:
             raise ControllerError(f"controller '{name}' is '{spec.state.label}' and cannot be configured")
+        # A controller can reach 'unconfigured' without a cleanup (on_error after a failed activation): what it
+        # exported then is still stored. Forget it first, as Jazzy does before every configure.
+        rm.remove_controller_reference_interfaces(name)
+        rm.remove_controller_exported_state_interfaces(name)
         new = ctrl.configure()
         if new is not State.INACTIVE:
             raise ControllerError(f"controller '{name}' failed to configure: on_configure did not succeed (it is '{new.label}')")

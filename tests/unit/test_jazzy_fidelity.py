@@ -1,0 +1,89 @@
+"""Cases ported from the Jazzy test suites of ros2_control, ros2_controllers and control_toolbox (issue 23).
+
+Each test's docstring names its source: repository, file and test name, on the jazzy branch. The setups are our
+own (the course's test controllers and hardware); the behaviour asserted is Jazzy's.
+"""
+
+from __future__ import annotations
+
+import pytest
+from core_helpers import load_configure, make_cm
+
+from rrbot_workshop.exceptions import SwitchError
+from rrbot_workshop.middleware.lifecycle import CallbackReturn, State
+
+CHAIN = "test_controller/TestChainableController"
+
+
+def _fail_activation(cm, name: str) -> None:  # noqa: ANN001
+    cm.get_controller(name).on_activate = lambda previous_state: CallbackReturn.ERROR
+
+
+def _heal(cm, name: str) -> None:  # noqa: ANN001
+    del cm.get_controller(name).on_activate
+
+
+def _states(cm, *names: str) -> list[State]:  # noqa: ANN001
+    return [cm.controllers[n].state for n in names]
+
+
+def test_chainable_controller_that_failed_activation_can_be_configured_and_activated_again() -> None:
+    """ros2_control controller_manager/test/test_controller_manager.cpp,
+    test_chainable_controllers_failed_activation_and_then_reconfiguring_it (jazzy)."""
+    cm = make_cm({"chain": {"type": CHAIN, "reference_interfaces": ["modified_joint1/position"],
+                            "exported_state_interfaces": ["modified_joint2/position"],
+                            "command_interfaces": ["joint1/position"], "state_interfaces": ["joint2/position"]}})
+    load_configure(cm, "chain")
+    _fail_activation(cm, "chain")
+    with pytest.raises(SwitchError, match="failed to activate"):
+        cm.switch_controllers(activate=["chain"], strictness="strict")
+    assert _states(cm, "chain") == [State.UNCONFIGURED]
+    _heal(cm, "chain")
+    cm.configure_controller("chain")
+    assert _states(cm, "chain") == [State.INACTIVE]
+    cm.switch_controllers(activate=["chain"], strictness="strict")
+    assert _states(cm, "chain") == [State.ACTIVE]
+    assert cm.resource_manager.command_interface_is_available("chain/modified_joint1/position")
+
+
+def test_chainable_controller_that_failed_activation_can_be_unloaded_and_loaded_again() -> None:
+    """The same as above after an unload and a reload (issue 23 reproduced it so)."""
+    cm = make_cm({"chain": {"type": CHAIN, "reference_interfaces": ["ref"], "command_interfaces": ["joint1/position"]}})
+    load_configure(cm, "chain")
+    _fail_activation(cm, "chain")
+    with pytest.raises(SwitchError):
+        cm.switch_controllers(activate=["chain"], strictness="strict")
+    cm.unload_controller("chain")
+    assert not cm.resource_manager.command_interface_exists("chain/ref")
+    load_configure(cm, "chain")
+    cm.switch_controllers(activate=["chain"], strictness="strict")
+    assert _states(cm, "chain") == [State.ACTIVE]
+
+
+def test_chainable_controller_failed_activation_stops_all_list() -> None:
+    """ros2_control controller_manager/test/test_controller_manager.cpp,
+    test_chainable_controllers_failed_activation_stops_all_list (jazzy)."""
+    cm = make_cm({
+        "chain1": {"type": CHAIN, "reference_interfaces": ["modified_joint1/position"],
+                   "command_interfaces": ["joint1/position"]},
+        "chain2": {"type": CHAIN, "reference_interfaces": ["modified_joint2/position"],
+                   "command_interfaces": ["joint2/position"]},
+        "user": {"command_interfaces": ["chain1/modified_joint1/position"]},
+    })
+    names = ("chain1", "chain2", "user")
+    load_configure(cm, *names)
+    cm.switch_controllers(activate=list(names), strictness="strict")
+    assert _states(cm, *names) == [State.ACTIVE] * 3
+    cm.switch_controllers(deactivate=list(names), strictness="strict")
+    assert _states(cm, *names) == [State.INACTIVE] * 3
+
+    _fail_activation(cm, "chain1")
+    with pytest.raises(SwitchError):
+        cm.switch_controllers(activate=list(names), strictness="strict")
+    assert _states(cm, *names) == [State.UNCONFIGURED, State.INACTIVE, State.INACTIVE]
+
+    cm.configure_controller("chain1")
+    assert _states(cm, "chain1") == [State.INACTIVE]
+    with pytest.raises(SwitchError):
+        cm.switch_controllers(activate=list(names), strictness="best_effort")
+    assert _states(cm, *names) == [State.UNCONFIGURED, State.ACTIVE, State.INACTIVE]
