@@ -372,11 +372,13 @@ def test_cancel_holds_position() -> None:
 
 
 def test_new_goal_preempts_the_running_one() -> None:
+    """ros2_controllers joint_trajectory_controller/test/test_trajectory_actions.cpp,
+    preempted_goal_receives_aborted_result (jazzy): the preempted goal ends ABORTED with INVALID_GOAL."""
     h = make(state=(0.0, 0.0))
     first = h.controller.send_goal(traj((1.0, [1.0, 1.0])))
     follow(h, 10)
     second = h.controller.send_goal(traj((1.0, [0.5, 0.5])))
-    assert first.status is GoalStatus.CANCELED and first.result.error_code == Result.INVALID_GOAL
+    assert first.status is GoalStatus.ABORTED and first.result.error_code == Result.INVALID_GOAL
     follow(h, 150)
     assert second.status is GoalStatus.SUCCEEDED
 
