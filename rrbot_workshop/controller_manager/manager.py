@@ -106,6 +106,7 @@ class ControllerManager:
                           hardware_state=lambda name: rm.get_component(name).get_lifecycle_state())
         #: Publishes ``/controller_manager/activity`` when a controller or hardware component changes state.
         self.activity = ActivityReporter(self.bus, self.clock, self._controllers, rm)
+        self.activity.check()  # as Jazzy: a first message at start-up (the components' states, no controllers yet)
         switch = self._late("switch_controllers")  # set_state and the fallbacks switch as a caller of the manager would
         self._lifecycle = ControllerLifecycle(self._controllers, self._chains, rm, self.params, self.bus, self.clock,
                                               robot_description, self.update_rate, self.activity, switch)

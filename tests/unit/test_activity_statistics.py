@@ -30,21 +30,30 @@ def test_each_state_change_publishes_one_message_and_nothing_else_does() -> None
     cm = make_cm({"a": {"command_interfaces": ["joint1/position"]}, "b": {"command_interfaces": ["joint1/position"]}},
                  hardware=[(hw, make_info("arm", {"joint1": (["position"], ["position"])}))])
     history = lambda: cm.bus.history(ACTIVITY_TOPIC)  # noqa: E731
+    assert [_states(m) for m in history()] == [({}, {"arm": "active"})]  # start-up, as Jazzy
     cm.load_controller("a")
     assert _states(history()[-1]) == ({"a": "unconfigured"}, {"arm": "active"})
     cm.configure_controller("a")
     cm.switch_controllers(activate=["a"], strictness="strict")
-    assert [_states(m)[0] for m in history()] == [{"a": "unconfigured"}, {"a": "inactive"}, {"a": "active"}]
+    assert [_states(m)[0] for m in history()] == [{}, {"a": "unconfigured"}, {"a": "inactive"}, {"a": "active"}]
     for k in range(5):  # cycles without a change publish nothing
         cm.update(k * 0.01, 0.01)
     with pytest.raises(Exception):  # noqa: B017 - a rejected request changes nothing, so no message
         cm.switch_controllers(activate=["nope"], strictness="strict")
-    assert len(history()) == 3
+    assert len(history()) == 4
     hw.read_result = ReturnType.ERROR  # a failure in the loop: the component and its controller change
     cm.update(0.05, 0.01)
     assert _states(history()[-1]) == ({"a": "inactive"}, {"arm": "unconfigured"})
-    assert len(history()) == 4
+    assert len(history()) == 5
     assert history()[-1].controllers[0].state.id == 2  # lifecycle_msgs/State ids
+
+
+def test_activity_has_a_message_at_start_up() -> None:
+    """ros2_control controller_manager/test/test_controller_manager.cpp, controller_lifecycle (jazzy): before any
+    controller is loaded, ~/activity already holds the hardware components and no controllers."""
+    cm = make_cm({})
+    latest = cm.bus.latest(ACTIVITY_TOPIC)
+    assert latest is not None and _states(latest) == ({}, {"sys": "active"})
 
 
 def test_a_late_reader_finds_the_last_activity() -> None:
