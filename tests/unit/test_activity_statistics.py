@@ -66,6 +66,8 @@ def test_a_late_reader_finds_the_last_activity() -> None:
 
 
 def test_statistics_count_periods_on_the_managers_clock_since_activation() -> None:
+    """ros2_control controller_manager/test/test_controller_manager.cpp, check_the_controller_update_rate (jazzy):
+    periodicity in [Hz], one measurement fewer than the updates (the first is not counted)."""
     cm = make_cm({"fast": {"command_interfaces": ["joint1/position"]},
                   "slow": {"command_interfaces": ["joint2/position"], "update_rate": 25}})
     load_configure(cm, "fast", "slow")
@@ -73,11 +75,12 @@ def test_statistics_count_periods_on_the_managers_clock_since_activation() -> No
     for k in range(100):
         cm.update(k * 0.01, 0.01)
     stats = cm.controller_statistics()
-    assert stats["fast"].period.count == 100 and stats["fast"].period.mean == pytest.approx(0.01)
-    assert stats["slow"].period.count == 25
-    assert stats["slow"].period.minimum == pytest.approx(0.04) and stats["slow"].period.maximum == pytest.approx(0.04)
+    assert stats["fast"].periodicity.count == 99 and stats["fast"].periodicity.mean == pytest.approx(100.0)
+    assert stats["slow"].periodicity.count == 24 and stats["slow"].execution_time.count == 25
+    assert stats["slow"].periodicity.minimum == pytest.approx(25.0) and stats["slow"].periodicity.maximum == pytest.approx(25.0)
     assert stats["fast"].execution_time.count == 100 and stats["fast"].execution_time.minimum >= 0.0
     cm.switch_controllers(deactivate=["fast"], strictness="strict")
     cm.switch_controllers(activate=["fast"], strictness="strict")
     cm.update(1.0, 0.01)
-    assert cm.controller_statistics()["fast"].period.count == 1, "statistics start over at activation"
+    assert cm.controller_statistics()["fast"].execution_time.count == 1, "statistics start over at activation"
+    assert cm.controller_statistics()["fast"].periodicity.count == 0, "the first update after activation is no period"
