@@ -114,6 +114,7 @@ class ControllerManager:
         self._loop = ControllerLoop(self._controllers, self._chains, self.update_rate,
                                     on_failed=self._failures.controllers_failed,
                                     handle_exceptions=own.handle_exceptions)
+        rm.handle_exceptions = own.handle_exceptions  # the hardware's read and write follow it too, as in Jazzy
 
     def _late(self, method: str) -> Callable[..., Any]:
         """Call this manager's ``method`` as it is at the time of the call (an instance may have it replaced)."""
@@ -150,6 +151,7 @@ class ControllerManager:
     @handle_exceptions.setter
     def handle_exceptions(self, value: bool) -> None:
         self._loop.handle_exceptions = bool(value)
+        self.resource_manager.handle_exceptions = bool(value)
 
     def get_controller(self, name: str) -> ControllerInterface:
         """The controller instance called ``name``.

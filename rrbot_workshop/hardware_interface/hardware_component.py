@@ -100,6 +100,10 @@ class HardwareComponent:
         >>> component.read(0.0, 0.01)             # ReturnType.OK
     """
 
+    #: ros2_control's ``handle_exceptions`` (the resource manager sets it): False lets an exception from the
+    #: implementation's ``read``/``write`` propagate to the caller instead of becoming ERROR.
+    handle_exceptions: bool = True
+
     def __init__(self, impl: HardwareComponentInterface) -> None:
         self._impl = impl
         self._exported: tuple[list[StateInterface], list[CommandInterface]] | None = None
@@ -406,6 +410,8 @@ class HardwareComponent:
             exc: What the implementation raised, if anything.
         """
         if exc is not None:
+            if not self.handle_exceptions:  # ros2_control's handle_exceptions false: the caller gets it
+                raise exc
             result = self._return_type(what, _reraise, exc)
         elif result.__class__ is not ReturnType:
             result = self._return_type(what, lambda: result)

@@ -87,3 +87,41 @@ def test_chainable_controller_failed_activation_stops_all_list() -> None:
     with pytest.raises(SwitchError):
         cm.switch_controllers(activate=list(names), strictness="best_effort")
     assert _states(cm, *names) == [State.UNCONFIGURED, State.ACTIVE, State.INACTIVE]
+
+
+def _raising_system_cm(handle_exceptions: bool, where: str):  # noqa: ANN202
+    from core_helpers import TestSystem, make_info
+
+    class Raising(TestSystem):
+        __test__ = False
+
+        def write(self, time: float, period: float):  # noqa: ANN201
+            if where == "write":
+                raise RuntimeError("bus fault in write")
+            return super().write(time, period)
+
+    hw = Raising()
+    hw.raise_in_read = where == "read"
+    return make_cm({}, hardware=[(hw, make_info("sys", {"joint1": (["position"], ["position"])}))],
+                   manager={"handle_exceptions": handle_exceptions})
+
+
+@pytest.mark.parametrize("where", ["read", "write"])
+def test_hardware_exception_propagates_without_handle_exceptions(where: str) -> None:
+    """ros2_control hardware_interface_testing/test/test_resource_manager.cpp,
+    handle_read_exception_without_handle_exceptions and handle_write_exception_without_handle_exceptions (jazzy)."""
+    cm = _raising_system_cm(False, where)
+    rm = cm.resource_manager
+    with pytest.raises(RuntimeError):
+        getattr(rm, where)(0.0, 0.01)
+    with pytest.raises(RuntimeError):
+        cm.update(0.01, 0.01)
+
+
+@pytest.mark.parametrize("where", ["read", "write"])
+def test_hardware_exception_is_an_error_with_handle_exceptions(where: str) -> None:
+    """ros2_control hardware_interface_testing/test/test_resource_manager.cpp,
+    handle_read_exception_with_handle_exceptions and handle_write_exception_with_handle_exceptions (jazzy)."""
+    cm = _raising_system_cm(True, where)
+    status = getattr(cm.resource_manager, where)(0.0, 0.01)
+    assert not status.ok and status.failed_hardware_names == ["sys"]
