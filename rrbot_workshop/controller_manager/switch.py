@@ -161,6 +161,12 @@ class SwitchRequest:
                     problems[a] = reasons
                 else:
                     self.to_chained |= chained
+            if problems and not self.strict:
+                # as Jazzy, best effort drops the activations that fail first, then checks the deactivations against
+                # what is still activated (a follower whose new preceding controller was dropped can stop)
+                self.skipped += [r for rs in problems.values() for r in rs]
+                self.activate = [n for n in self.activate if n not in problems]
+                continue
             for d in self.deactivate:
                 reasons = self.rules.check_deactivation(d, self.activate, self.deactivate)
                 if reasons:

@@ -125,3 +125,34 @@ def test_hardware_exception_is_an_error_with_handle_exceptions(where: str) -> No
     cm = _raising_system_cm(True, where)
     status = getattr(cm.resource_manager, where)(0.0, 0.01)
     assert not status.ok and status.failed_hardware_names == ["sys"]
+
+
+def _diff_drive_over_two_pids():  # noqa: ANN202
+    cm = make_cm({
+        "diff_drive": {"command_interfaces": ["pid_left/joint1/position", "pid_right/joint2/position"]},
+        "pid_left": {"type": CHAIN, "reference_interfaces": ["joint1/position"], "command_interfaces": ["joint1/position"]},
+        "pid_right": {"type": CHAIN, "reference_interfaces": ["joint2/position"],
+                      "command_interfaces": ["joint2/position"]},
+    })
+    load_configure(cm, "diff_drive", "pid_left", "pid_right")
+    cm.switch_controllers(activate=["pid_left", "pid_right"], strictness="strict")
+    return cm
+
+
+def test_best_effort_activating_a_preceding_controller_while_deactivating_its_followers() -> None:
+    """ros2_control controller_manager/test/test_controllers_chaining_with_controller_manager.cpp,
+    test_chained_controllers_deactivation_error_handling, Test Case 6, BEST_EFFORT (jazzy): the preceding controller
+    cannot start (its followers stop), so it is dropped and the followers are deactivated."""
+    cm = _diff_drive_over_two_pids()
+    result = cm.switch_controllers(activate=["diff_drive"], deactivate=["pid_left", "pid_right"],
+                                   strictness="best_effort")
+    assert sorted(result.deactivated) == ["pid_left", "pid_right"] and result.activated == []
+    assert _states(cm, "diff_drive", "pid_left", "pid_right") == [State.INACTIVE] * 3
+
+
+def test_strict_activating_a_preceding_controller_while_deactivating_its_followers_changes_nothing() -> None:
+    """The same, Test Case 6, STRICT (jazzy): an error, and the followers stay active."""
+    cm = _diff_drive_over_two_pids()
+    with pytest.raises(SwitchError):
+        cm.switch_controllers(activate=["diff_drive"], deactivate=["pid_left", "pid_right"], strictness="strict")
+    assert _states(cm, "diff_drive", "pid_left", "pid_right") == [State.INACTIVE, State.ACTIVE, State.ACTIVE]
