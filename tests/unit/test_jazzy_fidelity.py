@@ -156,3 +156,34 @@ def test_strict_activating_a_preceding_controller_while_deactivating_its_followe
     with pytest.raises(SwitchError):
         cm.switch_controllers(activate=["diff_drive"], deactivate=["pid_left", "pid_right"], strictness="strict")
     assert _states(cm, "diff_drive", "pid_left", "pid_right") == [State.INACTIVE, State.ACTIVE, State.ACTIVE]
+
+
+def test_spawner_takes_the_type_from_the_wildcard_entry() -> None:
+    """ros2_control controller_manager/test/test_spawner_unspawner.cpp,
+    spawner_test_with_wildcard_entries_with_no_ctrl_name (jazzy): '/**' gives the type and shared parameters; a
+    controller's own section adds to them; each named controller is spawned active."""
+    import rrbot_workshop as rw
+
+    yaml_text = """
+controller_manager:
+  ros__parameters:
+    update_rate: 100
+/**:
+  ros__parameters:
+    type: forward_command_controller/ForwardCommandController
+    joints: [joint1]
+    interface_name: position
+wildcard_ctrl_3:
+  ros__parameters:
+    joints: [joint2]
+"""
+    names = ["wildcard_ctrl_1", "wildcard_ctrl_3"]
+    system = rw.bringup(description="rrbot", controllers=yaml_text, spawn=names[:1])
+    try:
+        system.spawn(names[1:])
+        cm = system.controller_manager
+        assert [(c.name, c.type, c.state) for c in cm.list_controllers()] == [
+            (n, "forward_command_controller/ForwardCommandController", "active") for n in names]
+        assert cm.get_controller("wildcard_ctrl_3").get_node().get_parameter("joints") == ["joint2"]
+    finally:
+        system.shutdown()
