@@ -282,6 +282,8 @@ class ControllerInterface:
         else:
             self._state = previous
             self.handle_error()
+            self.logger.error("on_%s of '%s' did not succeed (ERROR); after on_error it is '%s'", transition,
+                              self.get_name(), self._state.label)
         TRANSITIONS.bump()  # the compiled cycles rebuild their plans
         return self._state
 

@@ -175,7 +175,8 @@ class ControllerManager:
         """Create controller ``name`` of plugin ``type`` (from the controllers YAML if None) and run ``on_init``.
 
         Raises:
-            ControllerError: If the name is taken, the type is unknown or ``on_init`` fails.
+            ControllerError: If the name is not a valid ROS node name (see ``middleware.names``) or is taken, the
+                type is unknown or ``on_init`` fails.
             ControllerNotFound: If no type is given and the YAML declares none for ``name``.
             ParameterError: If the parameters do not match the controller's declarations.
         """

@@ -187,3 +187,72 @@ wildcard_ctrl_3:
         assert cm.get_controller("wildcard_ctrl_3").get_node().get_parameter("joints") == ["joint2"]
     finally:
         system.shutdown()
+
+
+def test_on_init_returning_none_is_a_clear_controller_error() -> None:
+    """A learner's on_init without `return`: one ControllerError saying what to return, nothing loaded."""
+    from core_helpers import TestController
+
+    from rrbot_workshop.exceptions import ControllerError
+    from rrbot_workshop.middleware import plugins
+
+    class NoReturn(TestController):
+        __test__ = False
+
+        def on_init(self):  # noqa: ANN201
+            pass
+
+    plugins.register("controller", "test_controller/NoReturnOnInit", NoReturn)
+    cm = make_cm({"c": {"type": "test_controller/NoReturnOnInit"}})
+    with pytest.raises(ControllerError, match=r"on_init returned None \(did it forget to `return"):
+        cm.load_controller("c")
+    assert "c" not in cm.controllers
+
+
+def test_on_deactivate_error_is_logged(caplog: pytest.LogCaptureFixture) -> None:
+    """ros2_control controller_manager deactivate_controllers (jazzy) logs a controller that is not inactive after
+    deactivation."""
+    cm = make_cm({"c": {"command_interfaces": ["joint1/position"]}})
+    load_configure(cm, "c")
+    cm.switch_controllers(activate=["c"], strictness="strict")
+    cm.get_controller("c").on_deactivate = lambda previous_state: CallbackReturn.ERROR
+    with caplog.at_level("ERROR"):
+        cm.switch_controllers(deactivate=["c"], strictness="best_effort")
+    assert "'c' failed to deactivate (on_deactivate returned ERROR)" in caplog.text
+    assert _states(cm, "c") == [State.UNCONFIGURED]
+
+
+@pytest.mark.parametrize("result", [CallbackReturn.FAILURE, CallbackReturn.ERROR])
+def test_on_cleanup_that_does_not_succeed_is_an_error(result: CallbackReturn,
+                                                      caplog: pytest.LogCaptureFixture) -> None:
+    """ros2_control controller_manager cleanup_controller (jazzy): FAILURE leaves it inactive (with its exports),
+    'is not cleaned-up properly' is logged and the request fails; ERROR runs on_error (unconfigured), logged."""
+    from rrbot_workshop.exceptions import ControllerError
+
+    cm = make_cm({"chain": {"type": CHAIN, "reference_interfaces": ["ref"], "command_interfaces": ["joint1/position"]}})
+    load_configure(cm, "chain")
+    cm.get_controller("chain").on_cleanup = lambda previous_state: result
+    with caplog.at_level("ERROR"):
+        if result is CallbackReturn.FAILURE:
+            with pytest.raises(ControllerError, match="was not cleaned up"):
+                cm.cleanup_controller("chain")
+            assert "not cleaned up properly" in caplog.text
+        else:
+            cm.cleanup_controller("chain")
+            assert "on_cleanup of 'chain' did not succeed (ERROR)" in caplog.text
+    expected = State.INACTIVE if result is CallbackReturn.FAILURE else State.UNCONFIGURED
+    assert _states(cm, "chain") == [expected]
+    assert cm.resource_manager.command_interface_exists("chain/ref") is (result is CallbackReturn.FAILURE)
+
+
+@pytest.mark.parametrize("result", [CallbackReturn.FAILURE, CallbackReturn.ERROR])
+def test_hardware_on_cleanup_that_does_not_succeed_is_logged(result: CallbackReturn,
+                                                             caplog: pytest.LogCaptureFixture) -> None:
+    """ros2_control's resource manager (jazzy) logs a component transition that fails."""
+    cm = make_cm({})
+    rm = cm.resource_manager
+    rm.set_component_state("sys", State.INACTIVE)
+    rm.get_component("sys")._impl.on_cleanup = lambda previous_state: result  # noqa: SLF001
+    with caplog.at_level("ERROR"):
+        rm.set_component_state("sys", State.UNCONFIGURED)
+    assert f"on_cleanup returned {result.value.upper()} in 'inactive'" in caplog.text
