@@ -145,7 +145,7 @@ def _cmd_reset(args: argparse.Namespace) -> int:
 def _cmd_export(args: argparse.Namespace) -> int:
     from rrbot_workshop.course.grading.course import export_student_copy, uncommitted_changes
 
-    if args.ros2:
+    if args.ros2 is not None:
         from rrbot_workshop.course.ros2_export import export_ros2
 
         result = export_ros2(args.ros2, force=args.force)
@@ -154,6 +154,8 @@ def _cmd_export(args: argparse.Namespace) -> int:
         print(f"Read {result.root / 'README.md'} for what to build with colcon and what remains to write in C++.")
         return 0
 
+    if not args.student.strip():
+        raise CourseError("export target", args.student, "is empty; give the path of a new folder for the copy")
     left_out = uncommitted_changes(tracks.course_root())
     target = export_student_copy(args.student)
     print(f"Wrote a student copy of the course as committed (without solutions/) to {target}")
