@@ -39,7 +39,7 @@ from rrbot_workshop.exceptions import DescriptionError, ParameterError, PluginNo
 from rrbot_workshop.middleware import plugins
 from rrbot_workshop.middleware.controllers_yaml import load_controllers_yaml
 from rrbot_workshop.middleware.params import ParameterSchema
-from rrbot_workshop.middleware.text_files import read_text
+from rrbot_workshop.middleware.text_files import MAX_DEPTH, SAFE_LOADER, nesting_depth, paused_gc, read_text
 
 __all__ = ["Finding", "CONTROLLER_MANAGER_PARAMETERS", "lint_controllers", "lint_description", "format_findings"]
 
@@ -72,10 +72,17 @@ class _Lines:
     """Line numbers of the keys of a YAML document, by path of keys."""
 
     def __init__(self, text: str) -> None:
+        self._text = text
         self._lines: dict[tuple[str, ...], int] = {}
         self._nodes: dict[str, str] = {}  # node name -> its first top-level key (an index: lookups stay O(1))
+        self._built = False
+
+    def _build(self) -> None:
+        """Compose the document once, when the first finding needs a line (a clean file never pays for it)."""
+        self._built = True
         try:
-            node = yaml.compose(text)
+            with paused_gc():
+                node = yaml.compose(self._text, Loader=SAFE_LOADER)
         except (yaml.YAMLError, RecursionError):
             node = None
         if node is not None:
@@ -96,6 +103,8 @@ class _Lines:
 
     def find(self, *path: str) -> int:
         """Line of the deepest key of ``path`` that exists (0 if none)."""
+        if not self._built:
+            self._build()
         for end in range(len(path), 0, -1):
             if path[:end] in self._lines:
                 return self._lines[path[:end]]
@@ -103,6 +112,8 @@ class _Lines:
 
     def node_key(self, name: str) -> str | None:
         """The top-level key naming node ``name`` (``name``, ``/name`` or ``/**/name``)."""
+        if not self._built:
+            self._build()
         return self._nodes.get(name)
 
 
@@ -178,7 +189,8 @@ def _lint_controllers(path: str | Path, description: str | Path | None,
         return [Finding("error", source, 0, "file", problem)]
     findings: list[Finding] = []
     try:
-        yaml.safe_load(text)
+        with paused_gc():
+            data = yaml.load(text, Loader=SAFE_LOADER)  # noqa: S506 - a safe loader
     except yaml.YAMLError as exc:
         mark = getattr(exc, "problem_mark", None)
         line = mark.line + 1 if mark is not None else 0
@@ -186,23 +198,25 @@ def _lint_controllers(path: str | Path, description: str | Path | None,
         problem = getattr(exc, "problem", None) or str(exc)
         return [Finding("error", source, line, "YAML", f"does not parse (line {line}{column}): {problem}")]
     except RecursionError:
-        return [Finding("error", source, 0, "YAML", "is nested too deeply to read (keep it to a few dozen levels)")]
+        data = None
+        problem = "is nested too deeply to read"
+    else:
+        problem = "is nested too deeply to read" if nesting_depth(data) > MAX_DEPTH else ""
+    if problem:
+        return [Finding("error", source, 0, "YAML", f"{problem} (more than {MAX_DEPTH} levels)")]
     try:
-        cfg = load_controllers_yaml(text)
+        cfg = load_controllers_yaml(data if isinstance(data, Mapping) else text)
         cfg.source = source
     except ParameterError as exc:
         if exc.parameter == "<string>":  # about the whole file: say it as the other file problems are said
             return [Finding("error", source, 0, "file", str(exc).split("': ", 1)[-1])]
         return [Finding("error", source, 0, exc.parameter.replace("<string>: ", ""), str(exc).replace("<string>", source))]
-    lines = _Lines(text)
-    manager_key = lines.node_key("controller_manager") or "controller_manager"
+    lines = _Lines(text)  # line numbers are worked out when the first finding needs one
 
     def at(node: str, *keys: str) -> Any:
-        node_key = lines.node_key(node) or node
-
         def report(level: str, where: str, message: str) -> None:
             path = [*keys, *where.split(".")] if where else list(keys)
-            line = lines.find(node_key, "ros__parameters", *path)
+            line = lines.find(lines.node_key(node) or node, "ros__parameters", *path)
             findings.append(Finding(level, source, line, ".".join([node, *path]), message))
 
         return report
@@ -221,6 +235,7 @@ def _lint_controllers(path: str | Path, description: str | Path | None,
     for node in cfg.controller_parameters:
         if node != "/**" and node not in cfg.controller_types:
             line = lines.find(lines.node_key(node) or node)
+            manager_key = lines.node_key("controller_manager") or "controller_manager"
             findings.append(Finding(
                 "warning", source, line, node,
                 f"parameters for '{node}', but '{manager_key}' declares no controller of that name with a 'type'"
