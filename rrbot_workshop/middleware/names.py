@@ -18,7 +18,8 @@ import re
 
 from rrbot_workshop.exceptions import ControllerError
 
-__all__ = ["NODE_NAME_MAX_LENGTH", "NODE_NAME_RULE", "node_name_problem", "is_valid_node_name", "check_node_name"]
+__all__ = ["NODE_NAME_MAX_LENGTH", "NODE_NAME_RULE", "node_name_problem", "is_valid_node_name", "check_node_name",
+           "topic_name_problem"]
 
 #: The longest node name ROS accepts.
 NODE_NAME_MAX_LENGTH = 255
@@ -72,3 +73,36 @@ def check_node_name(name: object, what: str = "controller") -> str:
         shown = repr(name) if not isinstance(name, str) or len(name) <= 80 else repr(name[:77] + "...")
         raise ControllerError(f"{what} name {shown} is not a valid ROS node name: {problem}; {NODE_NAME_RULE}")
     return name  # type: ignore[return-value]
+
+
+_TOPIC_TOKEN = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
+
+
+def topic_name_problem(name: object) -> str:
+    """Why ``name`` is not a valid ROS topic name, or ``""`` (the rules of ``rcl_validate_topic_name``: tokens of
+    letters, digits and underscores not starting with a digit, separated by single ``/``; an optional leading ``/``
+    or ``~/``; no trailing ``/``).
+
+    Args:
+        name: The candidate.
+    """
+    if not isinstance(name, str):
+        return f"it is a {type(name).__name__}, not a string"
+    if not name:
+        return "it is empty"
+    body = name[2:] if name.startswith("~/") else name[1:] if name.startswith("/") else name
+    if name == "~":
+        return ""
+    if not body:
+        return "it names no topic after its leading '/'" if name.startswith("/") else "it is empty"
+    if body.endswith("/"):
+        return "it ends with '/'"
+    for token in body.split("/"):
+        if not token:
+            return "it contains '//'"
+        if not _TOPIC_TOKEN.match(token):
+            bad = _BAD_CHAR.search(token)
+            if bad is not None:
+                return f"it contains {bad.group()!r}"
+            return f"its part {token!r} starts with a digit"
+    return ""
