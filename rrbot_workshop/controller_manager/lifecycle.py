@@ -73,7 +73,7 @@ class ControllerLifecycle:
         """
         try:
             return self._controllers[name]
-        except KeyError:
+        except (KeyError, TypeError):  # TypeError: an unhashable value given as a name
             raise ControllerNotFound(name, self._controllers) from None
 
     def load(self, name: str, type_name: str | None) -> ControllerSpec:
@@ -274,6 +274,8 @@ class ControllerLifecycle:
         """
         spec = self.spec(name)
         try:
+            if not isinstance(state, State | str):
+                raise ValueError(f"the state must be a label such as 'active', got {state!r}")
             target = state if isinstance(state, State) else State.from_label(state)
         except ValueError as exc:
             raise ControllerError(f"controller '{name}': {exc}") from exc

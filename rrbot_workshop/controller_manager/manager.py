@@ -48,7 +48,7 @@ from rrbot_workshop.controller_manager.spec import (
     SwitchResult,
 )
 from rrbot_workshop.controller_manager.statistics import ControllerStatistics
-from rrbot_workshop.controller_manager.switch import Switcher
+from rrbot_workshop.controller_manager.switch import Switcher, name_list
 from rrbot_workshop.exceptions import ControllerError, HardwareError, LifecycleError
 from rrbot_workshop.hardware_interface.resource_manager import ResourceManager
 from rrbot_workshop.middleware.clock import Clock, SimClock
@@ -259,6 +259,7 @@ class ControllerManager:
         """
         if isinstance(activate, str) or isinstance(deactivate, str):
             raise ControllerError("activate and deactivate take lists of controller names, not a single string")
+        activate, deactivate = name_list(activate, "activate"), name_list(deactivate, "deactivate")
         return self._switcher.switch(activate, deactivate, strictness)
 
     def explain_switch(
