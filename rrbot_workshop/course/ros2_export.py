@@ -229,7 +229,7 @@ def _check_target(target: object) -> Path:
         if is_dir:
             non_empty = any(root.iterdir())
     except (OSError, RuntimeError) as exc:
-        raise CourseError("export target", text, f"cannot be used: {exc.strerror or exc}") from exc
+        raise CourseError("export target", text, f"cannot be used: {getattr(exc, 'strerror', None) or exc}") from exc
     if exists and not is_dir:
         raise CourseError("export target", str(root), "is a file, not a folder; choose a new folder")
     too_long = [part for part in root.parts if len(part.encode()) > _NAME_MAX]
