@@ -359,7 +359,7 @@ def bringup(
     if both:
         raise ParameterError("bringup", "spawn/inactive", f"{both} appear in both lists; choose one")
     for ctrl in [*spawn, *inactive]:
-        if ctrl not in cfg.controller_types and "type" not in cfg.controller_parameters.get(ctrl, {}):
+        if ctrl not in cfg.controller_types and "type" not in cfg.parameters_for(ctrl):  # '/**' may give the type
             raise ControllerNotFound(ctrl, cfg.controller_types, what=f"declared in the controllers config ({cfg.source})")
 
     the_clock = make_clock(clock, cfg.update_rate)

@@ -16,6 +16,7 @@ from typing import Any
 from rrbot_workshop.exceptions import DescriptionError, HardwareError, ParameterError
 from rrbot_workshop.middleware.controllers_yaml import ControllersConfig, load_controllers_yaml
 from rrbot_workshop.middleware.lifecycle import State
+from rrbot_workshop.middleware.text_files import read_text
 
 __all__ = ["description_to_urdf", "controllers_config", "hardware_initial_states"]
 
@@ -50,7 +51,10 @@ def description_to_urdf(description: str | Path, xacro_args: Mapping[str, Any]) 
         return process_xacro(path, **dict(xacro_args)), package, str(path)
     if xacro_args:
         return process_xacro(path, **dict(xacro_args)), package, str(path)
-    return path.read_text(), package, str(path)
+    text, problem = read_text(path)
+    if problem:
+        raise DescriptionError(f"description file '{path}' {problem}", source=str(path))
+    return text, package, str(path)
 
 
 def controllers_config(controllers: Any, package: str | None) -> ControllersConfig:

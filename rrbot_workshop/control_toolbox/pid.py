@@ -20,7 +20,9 @@ order is the one above.)
 
 from __future__ import annotations
 
+import logging
 import math
+import numbers
 import sys
 from dataclasses import dataclass, replace
 from typing import Any
@@ -34,6 +36,9 @@ ANTIWINDUP_STRATEGIES = ("legacy", "none", "back_calculation", "conditional_inte
 
 _EPS = sys.float_info.epsilon
 _OWNER = "Pid"
+_NUMBERS = ("p", "i", "d", "u_clamp_max", "u_clamp_min", "i_clamp_max", "i_clamp_min", "tracking_time_constant",
+            "error_deadband")
+_log = logging.getLogger(__name__)
 
 
 def _is_zero(value: float, tolerance: float = _EPS) -> bool:
@@ -83,8 +88,15 @@ class Gains:
             ParameterError: If a limit is NaN, ``u_clamp_min >= u_clamp_max``, the integral limits do
                 not satisfy ``i_clamp_min <= 0 <= i_clamp_max`` with ``i_clamp_min < i_clamp_max``, the
                 strategy is unknown, or the tracking time constant is negative, non-finite or cannot
-                be derived from the gains.
+                be derived from the gains, or a gain is not a number.
         """
+        for field_name in _NUMBERS:
+            value = getattr(self, field_name)
+            if isinstance(value, bool) or not isinstance(value, numbers.Real):
+                raise ParameterError(_OWNER, field_name, f"must be a number, got {value!r} ({type(value).__name__})")
+        if not isinstance(self.antiwindup_strategy, str):
+            raise ParameterError(_OWNER, "antiwindup_strategy",
+                                 f"must be one of {', '.join(ANTIWINDUP_STRATEGIES)}, got {self.antiwindup_strategy!r}")
         if math.isnan(self.u_clamp_min) or math.isnan(self.u_clamp_max):
             raise ParameterError(
                 _OWNER, "u_clamp_min/u_clamp_max", f"must not be NaN (u_clamp_min: {self.u_clamp_min}, "
@@ -183,19 +195,29 @@ class Pid:
         """Current gains (with the effective tracking time constant)."""
         return self._gains
 
-    def set_gains(self, *args: Any, **kwargs: Any) -> None:
+    def set_gains(self, *args: Any, **kwargs: Any) -> bool:
         """Replace the gains: ``set_gains(gains)`` or ``set_gains(p, i, d, u_clamp_max=..., ...)``.
 
-        Unlike control_toolbox, which prints and keeps the old gains, invalid gains raise.
+        As control_toolbox does, invalid gains (bad limits, an unknown strategy, a value that is not a number) are
+        logged as an error and the old gains stay in force; the call returns False.
 
-        Raises:
-            ParameterError: If the new gains are invalid; the old gains stay in force.
+        Returns:
+            True if the new gains are in force.
         """
-        if len(args) == 1 and not kwargs and isinstance(args[0], Gains):
-            gains = args[0]
-        else:
-            gains = Gains(*args, **kwargs)
-        self._gains = gains.validated()
+        try:
+            if len(args) == 1 and not kwargs and isinstance(args[0], Gains):
+                gains = args[0]
+            else:
+                gains = Gains(*args, **kwargs)
+            self._gains = gains.validated()
+        except ParameterError as exc:
+            _log.error("Pid.set_gains: %s; the gains stay %s", exc, self._gains)
+            return False
+        except TypeError as exc:  # wrong arguments: Gains' own signature said no
+            _log.error("Pid.set_gains: %s (valid: set_gains(Gains(...)) or set_gains(p, i, d, u_clamp_max=..., ...)); "
+                       "the gains stay %s", exc, self._gains)
+            return False
+        return True
 
     # ----------------------------------------------------------------- state
     def reset(self, save_i_term: bool = False) -> None:

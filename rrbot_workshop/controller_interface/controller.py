@@ -12,6 +12,7 @@ and calls ``update(time, period)`` every cycle. This module holds :class:`Contro
 from __future__ import annotations
 
 import enum
+import functools
 import logging
 from dataclasses import dataclass, field
 from typing import Any, ClassVar
@@ -90,6 +91,13 @@ controller_interface:
 )
 
 
+@functools.lru_cache(maxsize=64)
+def _schema(text: str) -> ParameterSchema:
+    """A controller type's declarations merged with the base ones, parsed once per type (not once per instance: a
+    manager may load hundreds of controllers of one type). The schema is only read afterwards."""
+    return ParameterSchema(text).merged(_BASE_SCHEMA)
+
+
 class ControllerInterface:
     """Base of every controller.
 
@@ -141,7 +149,7 @@ class ControllerInterface:
         try:
             if self.PARAMETERS:
                 self.param_listener = ParamListener(
-                    ParameterSchema(self.PARAMETERS).merged(_BASE_SCHEMA), self._node.parameters, controller_name
+                    _schema(self.PARAMETERS), self._node.parameters, controller_name
                 )
             result = self.on_init()
         except ParameterError:
@@ -281,6 +289,8 @@ class ControllerInterface:
         else:
             self._state = previous
             self.handle_error()
+            self.logger.error("on_%s of '%s' did not succeed (ERROR); after on_error it is '%s'", transition,
+                              self.get_name(), self._state.label)
         TRANSITIONS.bump()  # the compiled cycles rebuild their plans
         return self._state
 

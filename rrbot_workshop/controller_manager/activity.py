@@ -10,13 +10,14 @@ from the last one sent.
 from __future__ import annotations
 
 import functools
+import operator
 from collections.abc import Callable, Mapping
 from typing import Any, Protocol, TypeVar
 
 from rrbot_workshop.controller_manager.spec import ControllerSpec
 from rrbot_workshop.hardware_interface.resource_manager import ResourceManager
 from rrbot_workshop.middleware.clock import Clock
-from rrbot_workshop.middleware.lifecycle import State
+from rrbot_workshop.middleware.lifecycle import TRANSITIONS, State
 from rrbot_workshop.middleware.topics import TopicBus
 from rrbot_workshop.msgs import ControllerManagerActivity, Header, LifecycleState, NamedLifecycleState
 
@@ -25,11 +26,17 @@ __all__ = ["ACTIVITY_TOPIC", "ActivityReporter", "ActivitySink", "reports_activi
 #: The topic, as ``~/activity`` of the node ``/controller_manager``.
 ACTIVITY_TOPIC = "/controller_manager/activity"
 
-_Snapshot = tuple[tuple[tuple[str, State], ...], tuple[tuple[str, State], ...]]
+#: A record's lifecycle state, read in C (a snapshot of a thousand controllers is taken at each request).
+_STATE_OF_SPEC = operator.attrgetter("controller._state")
+
+_Names = tuple[tuple[str, ...], tuple[State, ...]]
+_Snapshot = tuple[_Names, _Names]
 
 
-def _named(items: tuple[tuple[str, State], ...]) -> list[NamedLifecycleState]:
-    return [NamedLifecycleState(name, LifecycleState(state.id, state.label)) for name, state in items]
+def _named(items: _Names) -> list[NamedLifecycleState]:
+    names, states = items
+    return [NamedLifecycleState(name, LifecycleState(state.id, state.label))
+            for name, state in zip(names, states, strict=True)]
 
 
 class ActivitySink(Protocol):
@@ -72,22 +79,36 @@ class ActivityReporter:
         self._rm = rm
         self._pub = bus.create_publisher(ControllerManagerActivity, ACTIVITY_TOPIC, owner="controller_manager")
         self._last: _Snapshot | None = None
+        self._last_key: tuple[Any, ...] | None = None
 
     def _snapshot(self) -> _Snapshot:
         rm = self._rm
-        controllers = tuple((name, spec.state) for name, spec in self._controllers.items())
-        hardware = tuple((name, rm.get_component(name).get_lifecycle_state()) for name in rm.component_names())
+        specs = self._controllers
+        # two flat tuples (names, states), not a pair per controller: nothing for the garbage collector to track
+        controllers = (tuple(specs), tuple(map(_STATE_OF_SPEC, specs.values())))
+        names = tuple(rm.component_names())
+        hardware = (names, tuple(rm.get_component(name).get_lifecycle_state() for name in names))
         return controllers, hardware
 
     def check(self) -> bool:
-        """Publish if any state changed; returns whether a message was published."""
+        """Publish if any state changed; returns whether a message was published.
+
+        Every state change moves ``TRANSITIONS`` and every load or unload changes the names: when neither moved,
+        nothing is looked at (a manager with many controllers answers each request without walking them all twice).
+        The message is built when someone reads the topic.
+        """
+        key = (TRANSITIONS.value, tuple(self._controllers), tuple(self._rm.component_names()))
+        if key == self._last_key:
+            return False
+        self._last_key = key
         snapshot = self._snapshot()
         if snapshot == self._last:
             return False
         self._last = snapshot
-        self._pub.publish(ControllerManagerActivity(
-            header=Header(stamp=self._clock.now()),
-            controllers=_named(snapshot[0]),
-            hardware_components=_named(snapshot[1]),
-        ))
+        self._pub.publish_lazy(_activity_message, self._clock.now(), snapshot)
         return True
+
+
+def _activity_message(stamp: float, snapshot: _Snapshot) -> ControllerManagerActivity:
+    return ControllerManagerActivity(header=Header(stamp=stamp), controllers=_named(snapshot[0]),
+                                     hardware_components=_named(snapshot[1]))

@@ -127,6 +127,9 @@ class InterfaceClaims:
         if spec.state is State.ACTIVE:
             _log.error("controller '%s' failed to deactivate (on_deactivate did not succeed); it stays active", name)
             return
+        if spec.state is not State.INACTIVE:  # ERROR: on_error made it unconfigured (or finalized)
+            _log.error("controller '%s' failed to deactivate (on_deactivate returned ERROR); after on_error it is "
+                       "'%s', expected 'inactive'; configure it again to use it", name, spec.state.label)
         ctrl.release_interfaces()
         if ctrl.is_chainable():
             ctrl.set_chained_mode(False)  # type: ignore[attr-defined]

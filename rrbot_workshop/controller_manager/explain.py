@@ -20,7 +20,7 @@ from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 
 from rrbot_workshop.controller_manager.spec import ControllerSpec
-from rrbot_workshop.controller_manager.switch import Switcher, normalize_strictness
+from rrbot_workshop.controller_manager.switch import Switcher, name_list, normalize_strictness
 from rrbot_workshop.exceptions import ControllerError, RRBotWorkshopError, SwitchError
 from rrbot_workshop.hardware_interface.resource_manager import ResourceManager
 
@@ -209,6 +209,7 @@ def explain_switch(
     """
     if isinstance(activate, str) or isinstance(deactivate, str):
         raise ControllerError("activate and deactivate take lists of controller names, not a single string")
+    activate, deactivate = name_list(activate, "activate"), name_list(deactivate, "deactivate")
     if strictness is not None:
         normalize_strictness(strictness)
     act, deact = list(activate), list(deactivate)

@@ -22,6 +22,7 @@ from rrbot_workshop.hardware_interface.resource_manager import ResourceManager
 from rrbot_workshop.middleware import plugins
 from rrbot_workshop.middleware.clock import Clock
 from rrbot_workshop.middleware.lifecycle import CallbackReturn, State
+from rrbot_workshop.middleware.names import check_node_name
 from rrbot_workshop.middleware.params import ControllersConfig
 from rrbot_workshop.middleware.topics import TopicBus
 
@@ -72,15 +73,15 @@ class ControllerLifecycle:
         """
         try:
             return self._controllers[name]
-        except KeyError:
+        except (KeyError, TypeError):  # TypeError: an unhashable value given as a name
             raise ControllerNotFound(name, self._controllers) from None
 
     def load(self, name: str, type_name: str | None) -> ControllerSpec:
         """Create controller ``name``, run its ``on_init`` and register it (it updates last until configured).
 
         Raises:
-            ControllerError: If the name is taken, the type is unknown, ``on_init`` fails, or
-                ``fallback_controllers`` is not a list of names or names the controller itself.
+            ControllerError: If the name is not a valid ROS node name or is taken, the type is unknown, ``on_init``
+                fails, or ``fallback_controllers`` is not a list of names or names the controller itself.
             ControllerNotFound: If no type is given and the YAML declares none for ``name``.
             ParameterError: If the parameters do not match the controller's declarations.
         """
@@ -129,6 +130,8 @@ class ControllerLifecycle:
         if spec.state is State.INACTIVE:
             self.cleanup(name)
             self._activity.check()
+        self._rm.remove_controller_reference_interfaces(name)  # left over when on_error made it unconfigured
+        self._rm.remove_controller_exported_state_interfaces(name)
         self._shutdown(spec)
         del self._controllers[name]
         self._chains.unloaded(name)
@@ -146,6 +149,10 @@ class ControllerLifecycle:
             ControllerNotFound: If no type is given and the YAML declares none for ``name``.
             ParameterError: If the parameters do not match the controller's declarations.
         """
+        check_node_name(name)  # every controller is a node: Jazzy refuses the load of a name rcl refuses
+        if type_name is not None and not isinstance(type_name, str):
+            raise ControllerError(f"controller '{name}': the type must be a string such as "
+                                  f"'forward_command_controller/ForwardCommandController', got {type_name!r}")
         if name in self._controllers:
             raise ControllerError(f"controller '{name}' is already loaded; unload it first or use another name")
         params = self._params
@@ -175,6 +182,10 @@ class ControllerLifecycle:
             raise
         if result is not CallbackReturn.SUCCESS:
             self._bus.remove_owner(name)
+            if not isinstance(result, CallbackReturn):
+                hint = " (did it forget to `return CallbackReturn.SUCCESS`?)" if result is None else ""
+                raise ControllerError(f"controller '{name}' ({type_name}): on_init returned {result!r}{hint}; it must "
+                                      "return a CallbackReturn (SUCCESS, FAILURE or ERROR)")
             raise ControllerError(f"controller '{name}' ({type_name}): on_init returned {result.value}")
         return ControllerSpec(name, type_name, ctrl, list(fallback))
 
@@ -193,6 +204,10 @@ class ControllerLifecycle:
             raise ControllerError(f"controller '{name}' is active and cannot be configured; deactivate it first")
         if spec.state is not State.UNCONFIGURED:
             raise ControllerError(f"controller '{name}' is '{spec.state.label}' and cannot be configured")
+        # A controller can reach 'unconfigured' without a cleanup (on_error after a failed activation): what it
+        # exported then is still stored. Forget it first, as Jazzy does before every configure.
+        rm.remove_controller_reference_interfaces(name)
+        rm.remove_controller_exported_state_interfaces(name)
         new = ctrl.configure()
         if new is not State.INACTIVE:
             raise ControllerError(f"controller '{name}' failed to configure: on_configure did not succeed (it is '{new.label}')")
@@ -226,9 +241,15 @@ class ControllerLifecycle:
         name = spec.name
         if spec.state is not State.INACTIVE:
             raise ControllerError(f"controller '{name}' is '{spec.state.label}'; only an inactive controller can be cleaned up")
-        rm.remove_controller_reference_interfaces(name)
-        rm.remove_controller_exported_state_interfaces(name)
-        spec.controller.cleanup()
+        new = spec.controller.cleanup()
+        if new is not State.INACTIVE:  # cleaned up, or unconfigured/finalized by on_error: its exports go
+            rm.remove_controller_reference_interfaces(name)
+            rm.remove_controller_exported_state_interfaces(name)
+        if new is not State.UNCONFIGURED:
+            why = "on_cleanup returned FAILURE" if new is State.INACTIVE else "on_cleanup did not succeed"
+            _log.error("controller '%s' was not cleaned up properly (%s); it is '%s'", name, why, new.label)
+            raise ControllerError(f"controller '{name}' was not cleaned up: {why}; it is '{new.label}', expected "
+                                  "'unconfigured'")
 
     def _shutdown(self, spec: ControllerSpec) -> None:
         """Shut a controller down (unless it is finalized already; a failure is logged) and destroy its node."""
@@ -253,6 +274,8 @@ class ControllerLifecycle:
         """
         spec = self.spec(name)
         try:
+            if not isinstance(state, State | str):
+                raise ValueError(f"the state must be a label such as 'active', got {state!r}")
             target = state if isinstance(state, State) else State.from_label(state)
         except ValueError as exc:
             raise ControllerError(f"controller '{name}': {exc}") from exc

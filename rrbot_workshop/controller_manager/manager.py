@@ -48,7 +48,7 @@ from rrbot_workshop.controller_manager.spec import (
     SwitchResult,
 )
 from rrbot_workshop.controller_manager.statistics import ControllerStatistics
-from rrbot_workshop.controller_manager.switch import Switcher
+from rrbot_workshop.controller_manager.switch import Switcher, name_list
 from rrbot_workshop.exceptions import ControllerError, HardwareError, LifecycleError
 from rrbot_workshop.hardware_interface.resource_manager import ResourceManager
 from rrbot_workshop.middleware.clock import Clock, SimClock
@@ -106,6 +106,7 @@ class ControllerManager:
                           hardware_state=lambda name: rm.get_component(name).get_lifecycle_state())
         #: Publishes ``/controller_manager/activity`` when a controller or hardware component changes state.
         self.activity = ActivityReporter(self.bus, self.clock, self._controllers, rm)
+        self.activity.check()  # as Jazzy: a first message at start-up (the components' states, no controllers yet)
         switch = self._late("switch_controllers")  # set_state and the fallbacks switch as a caller of the manager would
         self._lifecycle = ControllerLifecycle(self._controllers, self._chains, rm, self.params, self.bus, self.clock,
                                               robot_description, self.update_rate, self.activity, switch)
@@ -113,6 +114,7 @@ class ControllerManager:
         self._loop = ControllerLoop(self._controllers, self._chains, self.update_rate,
                                     on_failed=self._failures.controllers_failed,
                                     handle_exceptions=own.handle_exceptions)
+        rm.handle_exceptions = own.handle_exceptions  # the hardware's read and write follow it too, as in Jazzy
 
     def _late(self, method: str) -> Callable[..., Any]:
         """Call this manager's ``method`` as it is at the time of the call (an instance may have it replaced)."""
@@ -149,6 +151,7 @@ class ControllerManager:
     @handle_exceptions.setter
     def handle_exceptions(self, value: bool) -> None:
         self._loop.handle_exceptions = bool(value)
+        self.resource_manager.handle_exceptions = bool(value)
 
     def get_controller(self, name: str) -> ControllerInterface:
         """The controller instance called ``name``.
@@ -172,7 +175,8 @@ class ControllerManager:
         """Create controller ``name`` of plugin ``type`` (from the controllers YAML if None) and run ``on_init``.
 
         Raises:
-            ControllerError: If the name is taken, the type is unknown or ``on_init`` fails.
+            ControllerError: If the name is not a valid ROS node name (see ``middleware.names``) or is taken, the
+                type is unknown or ``on_init`` fails.
             ControllerNotFound: If no type is given and the YAML declares none for ``name``.
             ParameterError: If the parameters do not match the controller's declarations.
         """
@@ -255,6 +259,7 @@ class ControllerManager:
         """
         if isinstance(activate, str) or isinstance(deactivate, str):
             raise ControllerError("activate and deactivate take lists of controller names, not a single string")
+        activate, deactivate = name_list(activate, "activate"), name_list(deactivate, "deactivate")
         return self._switcher.switch(activate, deactivate, strictness)
 
     def explain_switch(

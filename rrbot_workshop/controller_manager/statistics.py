@@ -3,8 +3,10 @@
 ros2_control (Kilted and later) publishes the execution time and periodicity of each controller on
 ``~/statistics``; the course keeps the same two figures per controller, since its activation:
 
-* **period** in [s], on the manager's clock (simulated time by default, so the figures are reproducible): the
-  ``period`` argument each ``update`` received; a controller with a lower ``update_rate`` shows its own period;
+* **periodicity** in [Hz], on the manager's clock (simulated time by default, so the figures are reproducible):
+  ``1 / period`` of the ``period`` argument each ``update`` received, the first update after activation left out (it
+  has no previous update to measure from), as Jazzy's ``periodicity_statistics``; a controller with a lower
+  ``update_rate`` shows its own rate;
 * **execution time** in [µs] of each ``update`` call, measured on the wall clock (it varies from run to run).
 
 ``%control statistics`` prints them; ``cm.controller_statistics()`` returns them.
@@ -64,19 +66,25 @@ class ControllerStatistics:
     #: Length of :attr:`pending` at which the loop folds: ``FOLD_EVERY`` updates, two figures each.
     FOLD_AT = 2 * FOLD_EVERY
 
-    __slots__ = ("_period", "_execution_time", "pending")
+    __slots__ = ("_period", "_execution_time", "pending", "_skip_first")
 
     def __init__(self) -> None:
         self._period = RunningStats()
         self._execution_time = RunningStats()
         self.pending: list[float] = []
+        self._skip_first = True
 
     @property
-    def period(self) -> RunningStats:
-        """The ``period`` passed to ``update`` in [s]."""
+    def periodicity(self) -> RunningStats:
+        """The rate of the updates in [Hz] (``1 / period``), the first update since activation not counted."""
         if self.pending:
             self.fold()
         return self._period
+
+    @property
+    def period(self) -> RunningStats:
+        """The same figures as :attr:`periodicity` (in [Hz]; the name of earlier versions of the course)."""
+        return self.periodicity
 
     @property
     def execution_time(self) -> RunningStats:
@@ -90,7 +98,11 @@ class ControllerStatistics:
         next to nothing per update)."""
         if self.pending:
             self._execution_time.merge(self.pending[0::2])
-            self._period.merge(self.pending[1::2])
+            periods = self.pending[1::2]
+            if self._skip_first:
+                self._skip_first = False
+                del periods[0]
+            self._period.merge([1.0 / p if p > 0.0 else math.inf for p in periods])
             self.pending.clear()
 
     def reset(self) -> None:
@@ -98,6 +110,7 @@ class ControllerStatistics:
         self._period = RunningStats()
         self._execution_time = RunningStats()
         self.pending.clear()
+        self._skip_first = True
 
     def __repr__(self) -> str:
-        return f"ControllerStatistics(period={self.period!r}, execution_time={self.execution_time!r})"
+        return f"ControllerStatistics(periodicity={self.periodicity!r}, execution_time={self.execution_time!r})"

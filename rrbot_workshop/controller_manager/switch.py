@@ -42,7 +42,7 @@ from rrbot_workshop.exceptions import ControllerError, SwitchError
 from rrbot_workshop.hardware_interface.resource_manager import ResourceManager
 from rrbot_workshop.middleware.lifecycle import State
 
-__all__ = ["STRICTNESS", "SwitchCall", "SwitchRequest", "Switcher", "normalize_strictness"]
+__all__ = ["STRICTNESS", "SwitchCall", "SwitchRequest", "Switcher", "normalize_strictness", "name_list"]
 
 _log = logging.getLogger(__name__)
 
@@ -54,6 +54,21 @@ SwitchCall = Callable[..., SwitchResult]
 #: 3 AUTO and 4 FORCE_AUTO act as BEST_EFFORT in Jazzy).
 STRICTNESS = {"best_effort": "best_effort", "strict": "strict", "auto": "best_effort", "force_auto": "best_effort",
               1: "best_effort", 2: "strict", 3: "best_effort", 4: "best_effort"}
+
+
+def name_list(names: Any, what: str) -> list[str]:
+    """``names`` as a list of controller names (any iterable of strings but a string itself).
+
+    Raises:
+        ControllerError: If it is not such an iterable (None, a number, a list holding a non-string).
+    """
+    if isinstance(names, str | bytes | Mapping) or not isinstance(names, Iterable):
+        raise ControllerError(f"{what} takes a list of controller names (strings), got {names!r}")
+    out = list(names)
+    bad = [n for n in out if not isinstance(n, str)]
+    if bad:
+        raise ControllerError(f"{what} takes a list of controller names (strings); {bad[0]!r} is not a string")
+    return out
 
 
 def normalize_strictness(strictness: str | int) -> str:
@@ -161,6 +176,12 @@ class SwitchRequest:
                     problems[a] = reasons
                 else:
                     self.to_chained |= chained
+            if problems and not self.strict:
+                # as Jazzy, best effort drops the activations that fail first, then checks the deactivations against
+                # what is still activated (a follower whose new preceding controller was dropped can stop)
+                self.skipped += [r for rs in problems.values() for r in rs]
+                self.activate = [n for n in self.activate if n not in problems]
+                continue
             for d in self.deactivate:
                 reasons = self.rules.check_deactivation(d, self.activate, self.deactivate)
                 if reasons:

@@ -6,9 +6,10 @@ ros2_control ``ForceTorqueSensor`` semantic component names them), or some of
 axis without an interface is published as NaN. ``frame_id`` is required.
 
 Each reading is corrected per axis as Jazzy does: ``(value + offset.<group>.<axis>) * multiplier.<group>.<axis>``
-(defaults 0 and 1). The corrected wrench is published and exported as six state interfaces
-``<controller>/force.x`` ... ``<controller>/torque.z`` that other controllers can read (the broadcaster is
-chainable; it has no reference interfaces).
+(defaults 0 and 1). The corrected wrench is published, and its configured axes are exported as state
+interfaces other controllers can read (the broadcaster is chainable; it has no reference interfaces). As in Jazzy,
+with ``sensor_name`` they are ``<controller>/<sensor_name>/force.x`` ... ``/torque.z``; with ``interface_names``
+one per configured axis, ``<controller>/<interface name>`` (e.g. ``<controller>/fts_sensor/torque.z``).
 
 Differences from Jazzy: a configuration mistake returns FAILURE (the controller stays unconfigured and
 can be fixed and configured again) where Jazzy returns ERROR; the optional filter chain and
@@ -76,6 +77,8 @@ force_torque_sensor_broadcaster:
     def __init__(self) -> None:
         super().__init__()
         self._names: list[str | None] = [None] * 6  # full interface name per axis, None = absent
+        self._export_prefix = ""
+        self._exported: list[tuple[int, str]] = []  # (axis index, exported interface name) of configured axes
         self._frame_id = ""
         self._pub: Publisher | None = None
         self._offset = [0.0] * 6
@@ -98,8 +101,12 @@ force_torque_sensor_broadcaster:
             return CallbackReturn.FAILURE
         if params.sensor_name:
             self._names = [f"{params.sensor_name}/{g}.{a}" for g, a in AXES]
+            self._export_prefix = f"{self.get_name()}/{params.sensor_name}"
+            self._exported = [(k, f"{g}.{a}") for k, (g, a) in enumerate(AXES)]
         else:
             self._names = [n or None for n in given]
+            self._export_prefix = self.get_name()
+            self._exported = [(k, n) for k, n in enumerate(given) if n]
         self._frame_id = params.frame_id
         self._offset = [float(getattr(getattr(params.offset, g), a)) for g, a in AXES]
         self._multiplier = [float(getattr(getattr(params.multiplier, g), a)) for g, a in AXES]
@@ -112,8 +119,8 @@ force_torque_sensor_broadcaster:
         return InterfaceConfiguration(InterfaceConfigurationType.INDIVIDUAL, [n for n in self._names if n])
 
     def on_export_state_interfaces(self) -> list[StateInterface]:
-        """The corrected wrench as ``<controller>/force.x`` ... ``<controller>/torque.z``."""
-        return [StateInterface(self.get_name(), f"{g}.{a}", initial_value=math.nan) for g, a in AXES]
+        """The corrected wrench's configured axes (see the module's docstring for their names)."""
+        return [StateInterface(self._export_prefix, name, initial_value=math.nan) for _, name in self._exported]
 
     def update_reference_from_subscribers(self, time: float, period: float) -> ReturnType:
         """A broadcaster has no references to read."""
@@ -128,8 +135,8 @@ force_torque_sensor_broadcaster:
                 loan = next(loans, None)
                 if loan is not None:
                     values[k] = (float(loan.get_value()) + self._offset[k]) * self._multiplier[k]
-        for handle, value in zip(self.exported_state_interfaces, values):  # noqa: B905 - strict= is slow
-            handle.set_value(value)
+        for handle, (k, _) in zip(self.exported_state_interfaces, self._exported):  # noqa: B905 - strict= is slow
+            handle.set_value(values[k])
         if self._pub is not None:
             self._pub.publish(WrenchStamped(
                 header=Header(stamp=time, frame_id=self._frame_id),

@@ -206,10 +206,10 @@ joint_state_broadcaster:
         layout: dict[str, list[tuple[str, int]]] = {}
         for index, loan in enumerate(self.state_interfaces):
             prefix, itf = loan.prefix_name, loan.interface_name
-            layout.setdefault(prefix, []).append((itf, index))
             if getattr(loan, "data_type", "double") not in ("double", "float32"):
-                self._targets.append(None)  # JointState fields are doubles
+                self._targets.append(None)  # both messages carry doubles: Jazzy leaves other types out of both
                 continue
+            layout.setdefault(prefix, []).append((itf, index))
             mapped = self._map.get(itf, itf)
             where.setdefault(prefix, {})[mapped] = index
             self._targets.append((prefix, mapped))

@@ -118,14 +118,9 @@ class JointTrajectoryController(ControllerInterface, FollowJointTrajectoryServer
 
     # ----------------------------------------------------------------- configuration
     def on_init(self) -> CallbackReturn:
-        """Check the interface combinations and find continuous joints in the URDF.
-
-        Raises:
-            ParameterError: For an interface combination the controller cannot drive.
-        """
+        """Find continuous joints in the URDF (interface combinations are checked at configure, as in Jazzy)."""
         assert self.param_listener is not None
         params = self.param_listener.get_params()
-        check_interface_combinations(params, self.get_name())
         continuous: set[str] = set()
         if self.get_robot_description():
             try:

@@ -62,7 +62,7 @@ class FollowJointTrajectoryServer:
 
         A rejected goal comes back with ``accepted`` False and a result whose ``error_code`` says why
         (``INVALID_JOINTS``, ``OLD_HEADER_TIMESTAMP`` or ``INVALID_GOAL``). An accepted goal preempts
-        the running one (which ends CANCELED) and ends SUCCEEDED, ABORTED (path or goal tolerance) or
+        the running one (which ends ABORTED with ``INVALID_GOAL``, as in Jazzy) and ends SUCCEEDED, ABORTED (path or goal tolerance) or
         CANCELED.
 
         Args:
@@ -84,8 +84,8 @@ class FollowJointTrajectoryServer:
             handle._finish(GoalStatus.UNKNOWN, problem[0], problem[1])
             return handle
         if self._active_goal is not None:
-            self._active_goal._finish(GoalStatus.CANCELED, Result.INVALID_GOAL,
-                                      "Current goal cancelled due to new incoming action.")
+            self._active_goal._finish(GoalStatus.ABORTED, Result.INVALID_GOAL,
+                                      "Current goal preempted by new incoming action.")
         self._pending = copy.deepcopy(trajectory)
         self._is_holding = False
         handle.accepted = True

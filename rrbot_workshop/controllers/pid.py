@@ -4,7 +4,7 @@ For each DOF ``i`` the controller reads a reference (from ``~/reference`` or, wh
 exported reference interfaces ``<controller>/<dof>/<interface>``) and a measured state (state interfaces
 ``<dof>/<interface>``, or ``~/measured_state``), and writes ``<dof>/<command_interface>``::
 
-    ff    = feedforward_gain * (reference_dot if two interfaces else reference)
+    ff    = feedforward_gain * (reference_dot if two interfaces else reference)   (0 unless feed-forward is on)
     error = reference - state                      (shortest angle if angle_wraparound)
     cmd   = ff + pid(error, reference_dot - state_dot, dt)   or  ff + pid(error, dt)
 
@@ -13,10 +13,12 @@ one interface (e.g. ``[position]``) or two (``[position, velocity]``; the second
 the first). Interfaces are ordered interface-major, as in ros2_controllers: all DOFs of the first
 interface, then all DOFs of the second.
 
-Differences from Jazzy, on purpose: feed-forward is active whenever ``feedforward_gain`` is non-zero (the
-rule ros2_controllers moved to; Jazzy's deprecated ``enable_feedforward`` switch and its
-``~/set_feedforward_control`` service are not provided), and ``~/reference`` messages are matched to DOFs by
-name (Jazzy's callback means to reorder them but does not).
+Feed-forward is off by default, as in Jazzy: ``feedforward_gain`` counts only once it is switched on, by the
+parameter ``enable_feedforward: true`` (read at configure) or by the service ``~/set_feedforward_control``
+(``std_srvs/SetBool``; Jazzy marks both for deprecation in favour of a non-zero gain alone).
+
+Differences from Jazzy, on purpose: ``~/reference`` messages are matched to DOFs by name (Jazzy's callback means
+to reorder them but does not).
 """
 
 from __future__ import annotations
@@ -36,7 +38,14 @@ from rrbot_workshop.hardware_interface.handles import CommandInterface, StateInt
 from rrbot_workshop.middleware.lifecycle import CallbackReturn, ReturnType, State
 from rrbot_workshop.middleware.params import Params
 from rrbot_workshop.middleware.topics import Publisher, Subscription
-from rrbot_workshop.msgs import Header, MultiDOFCommand, MultiDOFStateStamped, SingleDOFState
+from rrbot_workshop.msgs import (
+    Header,
+    MultiDOFCommand,
+    MultiDOFStateStamped,
+    SetBoolRequest,
+    SetBoolResponse,
+    SingleDOFState,
+)
 
 __all__ = ["PidController", "shortest_angular_distance"]
 
@@ -54,6 +63,8 @@ class PidController(ChainableControllerInterface):
 
     Attributes:
         pids: One :class:`~rrbot_workshop.control_toolbox.pid.Pid` per DOF (created at configure).
+        feedforward_mode_enabled: Whether ``feedforward_gain`` is applied (``enable_feedforward`` at configure, then
+            ``~/set_feedforward_control``).
         reference_and_state_dof_names: DOF names used for references and states.
     """
 
@@ -74,6 +85,8 @@ class PidController(ChainableControllerInterface):
         self._ref_sub: Subscription | None = None
         self._measured_sub: Subscription | None = None
         self._state_pub: Publisher | None = None
+        self._ff_srv: Any = None
+        self.feedforward_mode_enabled = False
 
     # ----------------------------------------------------------------- configuration
     def on_configure(self, previous_state: State) -> CallbackReturn:
@@ -117,7 +130,18 @@ class PidController(ChainableControllerInterface):
                 MultiDOFCommand, "~/measured_state", self._on_measured_state)
         if self._state_pub is None:
             self._state_pub = node.create_publisher(MultiDOFStateStamped, "~/controller_state")
+        self.feedforward_mode_enabled = bool(params.enable_feedforward)
+        if self._ff_srv is None:
+            self._ff_srv = node.create_service(SetBoolRequest, "~/set_feedforward_control", self._on_set_feedforward)
         return CallbackReturn.SUCCESS
+
+    def _on_set_feedforward(self, request: SetBoolRequest) -> SetBoolResponse:
+        if not isinstance(request, SetBoolRequest) or not isinstance(request.data, bool):
+            return SetBoolResponse(success=False, message=f"expected std_srvs/SetBool with a bool 'data', got {request!r}")
+        self.feedforward_mode_enabled = request.data
+        self.logger.warning("'%s': feed-forward %s; Jazzy plans to drop this service in favour of a non-zero "
+                            "'feedforward_gain' alone", self.get_name(), "on" if request.data else "off")
+        return SetBoolResponse(success=True, message=f"feed-forward {'on' if request.data else 'off'}")
 
     def on_cleanup(self, previous_state: State) -> CallbackReturn:
         """Drop the PIDs and subscriptions."""
@@ -256,12 +280,15 @@ class PidController(ChainableControllerInterface):
         refs = [h.get_value() for h in self.reference_interfaces]
         two = len(refs) == 2 * n and len(self._measured) == 2 * n
         gains = self._params.gains.dof_names_map
+        feedforward = self.feedforward_mode_enabled
         for i in range(n):
             ref, state = refs[i], self._measured[i]
             if not (math.isfinite(ref) and math.isfinite(state)):
                 continue
             g = gains[self._dof_names[i]]
-            if len(refs) == 2 * n:
+            if not feedforward:
+                ff = 0.0
+            elif len(refs) == 2 * n:
                 ff = refs[n + i] * g.feedforward_gain if math.isfinite(refs[n + i]) else 0.0
             else:
                 ff = ref * g.feedforward_gain

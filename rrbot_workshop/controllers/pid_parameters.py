@@ -49,6 +49,10 @@ pid_controller:
     type: bool
     default_value: false
     description: "Read the measured state from ~/measured_state instead of state interfaces."
+  enable_feedforward:
+    type: bool
+    default_value: false
+    description: "Add feedforward_gain times the reference to the command (also switched by ~/set_feedforward_control)."
   gains:
     __map_dof_names:
       p:

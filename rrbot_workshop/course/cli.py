@@ -10,14 +10,16 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import os
+import re
 import sys
 from collections.abc import Sequence
 from pathlib import Path
-from typing import Any
+from typing import Any, NoReturn
 
 from rrbot_workshop.course import tracks
-from rrbot_workshop.exceptions import CourseError, GradingError
+from rrbot_workshop.exceptions import CourseError, GradingError, RRBotWorkshopError
 
 __all__ = ["main", "build_parser"]
 
@@ -26,12 +28,23 @@ GRADER_ERROR = 1
 #: Exit status of ``lint`` when it found at least one error (warnings alone exit 0).
 LINT_ERRORS = 1
 
+_TASK_FOLDER = re.compile(r"^task\d{2}_[A-Za-z0-9_]+$")
+_XACRO_ARG_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse, with a usage error said in one line (and where to find the usage) instead of the whole usage."""
+
+    def error(self, message: str) -> NoReturn:
+        self.exit(USAGE_ERROR, f"{self.prog}: error: {message.splitlines()[0] if message else 'bad arguments'} "
+                               f"(see: {self.prog} --help)\n")
+
 
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of ``rrbot-workshop`` (sub-commands grade, progress, tasks, reset, export)."""
     from rrbot_workshop.course.grading.runner import DEFAULT_CHECK_TIMEOUT
 
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog="rrbot-workshop", description="Self-checks and instructor tools for the rrbot_workshop course."
     )
     parser.add_argument("--course", metavar="DIR", help="course folder (default: found from the current folder)")
@@ -95,8 +108,38 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def _check_grading_options(args: argparse.Namespace) -> None:
+    """``--timeout`` a finite number of seconds above 0; ``--root`` an existing folder holding taskNN_* folders.
+
+    Raises:
+        CourseError: Saying which option is wrong and what it accepts.
+    """
+    timeout = args.timeout
+    if not math.isfinite(timeout) or timeout <= 0:
+        raise CourseError("--timeout", timeout, f"--timeout must be a number of seconds above 0 (e.g. 30), not {timeout:g}")
+    if args.root is None:
+        return
+    if not args.root.strip() or "\x00" in args.root or "\n" in args.root:
+        raise CourseError("--root", args.root, "--root must be the path of a folder that holds taskNN_* folders")
+    try:
+        root = Path(args.root).expanduser().resolve()
+        is_dir, exists = root.is_dir(), root.exists()
+        tasks = [p.name for p in root.iterdir() if p.is_dir() and _TASK_FOLDER.match(p.name)] if is_dir else []
+    except (OSError, RuntimeError) as exc:
+        raise CourseError("--root", args.root, f"--root cannot be read: {getattr(exc, 'strerror', None) or exc}") from exc
+    if not exists:
+        raise CourseError("--root", args.root, f"--root '{root}' does not exist; give a folder that holds taskNN_* folders")
+    if not is_dir:
+        raise CourseError("--root", args.root, f"--root '{root}' is a file; give a folder that holds taskNN_* folders")
+    if not tasks:
+        raise CourseError("--root", args.root, f"--root '{root}' holds no taskNN_* folder (such as task01_description) to "
+                          "grade")
+
+
 def _cmd_grade(args: argparse.Namespace) -> int:
     from rrbot_workshop.course.grading.runner import grade
+
+    _check_grading_options(args)
 
     rubric = grade(args.task, track=args.track, task_root=args.root, check_timeout=args.timeout)
     print(rubric.to_json() if args.json else rubric.format())
@@ -107,6 +150,7 @@ def _cmd_progress(args: argparse.Namespace) -> int:
     from rrbot_workshop.course.grading import attempts
     from rrbot_workshop.course.grading.runner import grade, graded_tasks
 
+    _check_grading_options(args)
     track = args.track or tracks.current_track()
     results: list[dict[str, Any]] = []
     lines = [f"Progress on the {track} track" if args.root is None else f"Progress of {args.root}"]
@@ -166,7 +210,7 @@ def _cmd_reset(args: argparse.Namespace) -> int:
 def _cmd_export(args: argparse.Namespace) -> int:
     from rrbot_workshop.course.grading.course import export_student_copy, uncommitted_changes
 
-    if args.ros2:
+    if args.ros2 is not None:
         from rrbot_workshop.course.ros2_export import export_ros2
 
         if args.withhold_references:
@@ -178,6 +222,8 @@ def _cmd_export(args: argparse.Namespace) -> int:
         print(f"Read {result.root / 'README.md'} for what to build with colcon and what remains to write in C++.")
         return 0
 
+    if not args.student.strip():
+        raise CourseError("export target", args.student, "is empty; give the path of a new folder for the copy")
     left_out = uncommitted_changes(tracks.course_root())
     target = export_student_copy(args.student, withhold_references=args.withhold_references)
     print(f"Wrote a student copy of the course as committed (without solutions/) to {target}")
@@ -195,7 +241,14 @@ def _xacro_args(pairs: Sequence[str]) -> dict[str, str]:
     for pair in pairs:
         name, sep, value = pair.partition(":=")
         if not sep or not name:
-            raise CourseError("--xacro-arg", pair, "must be NAME:=VALUE, as xacro takes it", ["use_mock_hardware:=true"])
+            raise CourseError("--xacro-arg", pair, f"--xacro-arg {pair!r} must be NAME:=VALUE, as xacro takes it",
+                              ["use_mock_hardware:=true"])
+        if not _XACRO_ARG_NAME.match(name):
+            raise CourseError("--xacro-arg", pair, f"--xacro-arg {pair!r} has the name {name!r}; a xacro argument name is letters, digits "
+                              "and underscores, not starting with a digit", ["use_mock_hardware:=true"])
+        if any(c in value for c in "\n\r\x00"):
+            raise CourseError("--xacro-arg", pair, f"--xacro-arg {pair!r} has a line break or NUL in the value of {name!r}; give a value on "
+                              "one line", ["use_mock_hardware:=true"])
         out[name] = value
     return out
 
@@ -295,6 +348,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     except GradingError as exc:
         print(f"rrbot-workshop: the grader could not run: {exc}", file=sys.stderr)
         return GRADER_ERROR
+    except (RRBotWorkshopError, OSError) as exc:  # a file or value the command could not use: one line, usage error
+        text = str(exc).strip().splitlines()
+        print(f"rrbot-workshop: error: {text[0] if text else type(exc).__name__}", file=sys.stderr)
+        return USAGE_ERROR
     finally:
         if previous_root is None:
             os.environ.pop(tracks.ROOT_ENV, None)

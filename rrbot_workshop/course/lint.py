@@ -40,6 +40,7 @@ from rrbot_workshop.exceptions import DescriptionError, ParameterError, PluginNo
 from rrbot_workshop.middleware import plugins
 from rrbot_workshop.middleware.controllers_yaml import load_controllers_yaml
 from rrbot_workshop.middleware.params import ParameterSchema
+from rrbot_workshop.middleware.text_files import MAX_DEPTH, SAFE_LOADER, nesting_depth, paused_gc, read_text
 
 __all__ = ["Finding", "CONTROLLER_MANAGER_PARAMETERS", "lint_controllers", "lint_description", "format_findings"]
 
@@ -72,23 +73,39 @@ class _Lines:
     """Line numbers of the keys of a YAML document, by path of keys."""
 
     def __init__(self, text: str) -> None:
+        self._text = text
         self._lines: dict[tuple[str, ...], int] = {}
+        self._nodes: dict[str, str] = {}  # node name -> its first top-level key (an index: lookups stay O(1))
+        self._built = False
+
+    def _build(self) -> None:
+        """Compose the document once, when the first finding needs a line (a clean file never pays for it)."""
+        self._built = True
         try:
-            node = yaml.compose(text)
-        except yaml.YAMLError:
+            with paused_gc():
+                node = yaml.compose(self._text, Loader=SAFE_LOADER)
+        except (yaml.YAMLError, RecursionError):
             node = None
         if node is not None:
             self._walk(node, ())
+        for key in self._lines:
+            if len(key) == 1:
+                self._nodes.setdefault(key[0].strip("/").split("/")[-1], key[0])
 
     def _walk(self, node: yaml.Node, path: tuple[str, ...]) -> None:
-        if isinstance(node, yaml.MappingNode):
-            for key, value in node.value:
-                child = (*path, str(key.value))
-                self._lines[child] = key.start_mark.line + 1
-                self._walk(value, child)
+        stack = [(node, path)]  # iterative: a deep file must not exhaust Python's recursion
+        while stack:
+            current, prefix = stack.pop()
+            if isinstance(current, yaml.MappingNode):
+                for key, value in reversed(current.value):
+                    child = (*prefix, str(key.value))
+                    self._lines.setdefault(child, key.start_mark.line + 1)
+                    stack.append((value, child))
 
     def find(self, *path: str) -> int:
         """Line of the deepest key of ``path`` that exists (0 if none)."""
+        if not self._built:
+            self._build()
         for end in range(len(path), 0, -1):
             if path[:end] in self._lines:
                 return self._lines[path[:end]]
@@ -96,10 +113,9 @@ class _Lines:
 
     def node_key(self, name: str) -> str | None:
         """The top-level key naming node ``name`` (``name``, ``/name`` or ``/**/name``)."""
-        for (first, *rest) in self._lines:
-            if not rest and first.strip("/").split("/")[-1] == name:
-                return first
-        return None
+        if not self._built:
+            self._build()
+        return self._nodes.get(name)
 
 
 def _interfaces_of(infos: Sequence[Any]) -> tuple[set[str], set[str]]:
@@ -169,32 +185,39 @@ def lint_controllers(path: str | Path, description: str | Path | None = None,
 def _lint_controllers(path: str | Path, description: str | Path | None,
                       xacro_args: Mapping[str, Any] | None) -> list[Finding]:
     source = str(path)
-    try:
-        text = Path(path).read_text()
-    except OSError as exc:
-        return [Finding("error", source, 0, "file", f"cannot be read: {exc}")]
+    text, problem = read_text(path)
+    if problem:
+        return [Finding("error", source, 0, "file", problem)]
     findings: list[Finding] = []
     try:
-        yaml.safe_load(text)
+        with paused_gc():
+            data = yaml.load(text, Loader=SAFE_LOADER)  # noqa: S506 - a safe loader
     except yaml.YAMLError as exc:
         mark = getattr(exc, "problem_mark", None)
         line = mark.line + 1 if mark is not None else 0
         column = f", column {mark.column + 1}" if mark is not None else ""
         problem = getattr(exc, "problem", None) or str(exc)
         return [Finding("error", source, line, "YAML", f"does not parse (line {line}{column}): {problem}")]
+    except RecursionError:
+        data = None
+        problem = "is nested too deeply to read"
+    else:
+        problem = "is nested too deeply to read" if nesting_depth(data) > MAX_DEPTH else ""
+    if problem:
+        return [Finding("error", source, 0, "YAML", f"{problem} (more than {MAX_DEPTH} levels)")]
     try:
-        cfg = load_controllers_yaml(Path(path))
+        cfg = load_controllers_yaml(data if isinstance(data, Mapping) else text)
+        cfg.source = source
     except ParameterError as exc:
-        return [Finding("error", source, 0, exc.parameter, str(exc))]
-    lines = _Lines(text)
-    manager_key = lines.node_key("controller_manager") or "controller_manager"
+        if exc.parameter == "<string>":  # about the whole file: say it as the other file problems are said
+            return [Finding("error", source, 0, "file", str(exc).split("': ", 1)[-1])]
+        return [Finding("error", source, 0, exc.parameter.replace("<string>: ", ""), str(exc).replace("<string>", source))]
+    lines = _Lines(text)  # line numbers are worked out when the first finding needs one
 
     def at(node: str, *keys: str) -> Any:
-        node_key = lines.node_key(node) or node
-
         def report(level: str, where: str, message: str) -> None:
             path = [*keys, *where.split(".")] if where else list(keys)
-            line = lines.find(node_key, "ros__parameters", *path)
+            line = lines.find(lines.node_key(node) or node, "ros__parameters", *path)
             findings.append(Finding(level, source, line, ".".join([node, *path]), message))
 
         return report
@@ -213,6 +236,7 @@ def _lint_controllers(path: str | Path, description: str | Path | None,
     for node in cfg.controller_parameters:
         if node != "/**" and node not in cfg.controller_types:
             line = lines.find(lines.node_key(node) or node)
+            manager_key = lines.node_key("controller_manager") or "controller_manager"
             findings.append(Finding(
                 "warning", source, line, node,
                 f"parameters for '{node}', but '{manager_key}' declares no controller of that name with a 'type'"
@@ -224,16 +248,24 @@ def _lint_controllers(path: str | Path, description: str | Path | None,
         urdf, infos, problems = _parse_description(description, xacro_args or {})
         findings.extend(problems)
     interfaces: dict[str, tuple[list[str], list[str], list[str]]] = {}
+    failed_parameters: set[str] = set()  # controllers with an error among their parameters (one lookup each)
+    schemas: dict[str, ParameterSchema] = {}  # parsed once per type, not once per controller
     for name, cls in classes.items():
         values = cfg.parameters_for(name)
         schema_text = getattr(cls, "PARAMETERS", None)
         if schema_text:
-            check_parameters(name, cfg.controller_types[name], ParameterSchema(schema_text), values, at(name))
+            schema = schemas.get(schema_text)
+            if schema is None:
+                schema = schemas[schema_text] = ParameterSchema(schema_text)
+            errors_before = len(findings)
+            check_parameters(name, cfg.controller_types[name], schema, values, at(name))
+            if any(f.level == "error" for f in findings[errors_before:]):
+                failed_parameters.add(name)
         if urdf is not None:
             try:
                 interfaces[name] = _controller_interfaces(cls, name, values, urdf)
             except RRBotWorkshopError as exc:
-                if not any(f.level == "error" and f.where.startswith(f"{name}.") for f in findings):
+                if name not in failed_parameters:
                     at(name)("error", "", f"cannot be configured with these parameters: {exc}")
     if urdf is not None and description is not None:
         findings.extend(_interface_findings(source, Path(description).name, infos, interfaces, lines))

@@ -140,20 +140,20 @@ def _print_controllers(system: System, verbose: bool) -> None:
 
 
 def _print_statistics(system: System, execution_time: bool) -> None:
-    """Per controller: updates, period mean/min/max [ms] (manager's clock), execution time mean/max [µs]."""
+    """Per controller: updates, periodicity mean/min/max [Hz] (manager's clock), execution time mean/max [µs]."""
     stats = system.controller_manager.controller_statistics()
     if not stats:
         print("No controllers are currently loaded!")
         return
     wn = max(len(n) for n in stats)
-    head = f"{'controller':<{wn}}  updates  period mean/min/max [ms]"
+    head = f"{'controller':<{wn}}  updates  periodicity mean/min/max [Hz]"
     print(head + ("   execution mean/max [us]" if execution_time else ""))
     for name, s in stats.items():
-        p = s.period
+        p, updates = s.periodicity, s.execution_time.count
         if not p.count:
-            print(f"{name:<{wn}}  {0:>7}")
+            print(f"{name:<{wn}}  {updates:>7}")
             continue
-        line = f"{name:<{wn}}  {p.count:>7}  {p.mean * 1e3:7.2f} {p.minimum * 1e3:7.2f} {p.maximum * 1e3:7.2f}"
+        line = f"{name:<{wn}}  {updates:>7}  {p.mean:7.2f} {p.minimum:7.2f} {p.maximum:7.2f}"
         if execution_time:
             e = s.execution_time
             line += f"   {e.mean:9.1f} {e.maximum:9.1f}"

@@ -21,13 +21,15 @@ port from). Nothing here needs ROS to run: the generated files are checked to pa
 from __future__ import annotations
 
 import ast
+import os
 import shutil
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from rrbot_workshop.course import tracks
-from rrbot_workshop.exceptions import CourseError
+from rrbot_workshop.exceptions import CourseError, ParameterError
+from rrbot_workshop.middleware.names import NODE_NAME_RULE, node_name_problem
 from rrbot_workshop.middleware.params import load_controllers_yaml
 
 __all__ = ["Ros2Export", "export_ros2"]
@@ -35,6 +37,8 @@ __all__ = ["Ros2Export", "export_ros2"]
 _MAINTAINER = "learner@example.com"
 #: Broadcaster types: spawned first, never the "robot controller".
 _BROADCASTER_SUFFIXES = ("Broadcaster",)
+#: The longest file or folder name most file systems take, in bytes.
+_NAME_MAX = 255
 
 
 @dataclass
@@ -92,11 +96,13 @@ ament_package()
 
 
 def _launch_file(controllers_file: str, robot_controllers: list[str], broadcasters: list[str]) -> str:
+    # Names enter the code only as Python literals (repr), never inside a docstring or a string being written:
+    # whatever a name holds, it stays data. (They are also checked as ROS node names before anything is written.)
     default = robot_controllers[0] if robot_controllers else ""
-    others = repr(robot_controllers)
+    others = repr(list(robot_controllers))
     return f'''"""Bring RRBot up: the launch file equivalent to the course's ``bringup.py``.
 
-Arguments: ``robot_controller`` (one of {others}, default ``{default}``), ``use_mock_hardware``
+Arguments: ``robot_controller`` (one of ROBOT_CONTROLLERS below, default the first), ``use_mock_hardware``
 (default true), ``mock_sensor_commands`` (default false). The broadcasters start first; the robot
 controller once they are active; the other robot controllers are loaded and configured, inactive.
 """
@@ -110,7 +116,7 @@ from launch_ros.parameter_descriptions import ParameterValue
 from launch_ros.substitutions import FindPackageShare
 
 ROBOT_CONTROLLERS = {others}
-BROADCASTERS = {broadcasters!r}
+BROADCASTERS = {list(broadcasters)!r}
 
 
 def _spawner(arguments):
@@ -121,7 +127,7 @@ def _spawner(arguments):
     )
 
 
-CONTROLLERS = PathJoinSubstitution([FindPackageShare("controlko_bringup"), "config", "{controllers_file}"])
+CONTROLLERS = PathJoinSubstitution([FindPackageShare("controlko_bringup"), "config", {controllers_file!r}])
 
 
 def _nodes(context):
@@ -157,7 +163,7 @@ def _nodes(context):
 
 def generate_launch_description():
     return LaunchDescription([
-        DeclareLaunchArgument("robot_controller", default_value="{default}", choices=ROBOT_CONTROLLERS),
+        DeclareLaunchArgument("robot_controller", default_value={default!r}, choices=ROBOT_CONTROLLERS),
         DeclareLaunchArgument("use_mock_hardware", default_value="true"),
         DeclareLaunchArgument("mock_sensor_commands", default_value="false"),
         OpaqueFunction(function=_nodes),
@@ -197,13 +203,45 @@ they are C++ classes exported with `pluginlib`. Port them method by method (the 
 """
 
 
-def _check_generated(path: Path) -> None:
-    """Generated files must parse, or the export fails here instead of in colcon."""
-    text = path.read_text()
-    if path.suffix == ".xml":
-        ET.fromstring(text.split("?>", 2)[-1] if text.startswith("<?xml") else text)
-    elif path.suffix == ".py":
-        ast.parse(text, filename=str(path))
+def _check_generated(name: str, text: str) -> None:
+    """Generated files must parse, or the export fails here (before anything is written) instead of in colcon."""
+    try:
+        if name.endswith(".xml"):
+            ET.fromstring(text.split("?>", 2)[-1] if text.startswith("<?xml") else text)
+        elif name.endswith(".py"):
+            compile(text, name, "exec", flags=ast.PyCF_ONLY_AST)
+    except (SyntaxError, ValueError, ET.ParseError) as exc:  # our template failed: say so, write nothing
+        raise CourseError("export", name, f"the generated {name} does not parse ({exc}); nothing was written") from exc
+
+
+def _check_target(target: object) -> Path:
+    """The output folder, resolved, or one clear CourseError (empty, a file, not writable, a name too long)."""
+    if not isinstance(target, str | os.PathLike):
+        raise CourseError("export target", target, f"must be a folder path, got {type(target).__name__}")
+    text = os.fspath(target)
+    if not isinstance(text, str) or not text.strip():
+        raise CourseError("export target", text, "is empty; give the path of a new folder to write into")
+    if "\x00" in text or "\n" in text or "\r" in text:
+        raise CourseError("export target", text, "contains a NUL or line break; give an ordinary folder path")
+    try:
+        root = Path(text).expanduser().resolve()
+        exists, is_dir = root.exists(), root.is_dir()
+        if is_dir:
+            non_empty = any(root.iterdir())
+    except (OSError, RuntimeError) as exc:
+        raise CourseError("export target", text, f"cannot be used: {getattr(exc, 'strerror', None) or exc}") from exc
+    if exists and not is_dir:
+        raise CourseError("export target", str(root), "is a file, not a folder; choose a new folder")
+    too_long = [part for part in root.parts if len(part.encode()) > _NAME_MAX]
+    if too_long:
+        raise CourseError("export target", str(root), f"has a folder name of {len(too_long[0].encode())} bytes; "
+                                                      f"file systems allow at most {_NAME_MAX}")
+    if exists and non_empty:
+        return root
+    parent = root if exists else next((p for p in root.parents if p.exists()), root.anchor and Path(root.anchor))
+    if not isinstance(parent, Path) or not parent.is_dir() or not os.access(parent, os.W_OK | os.X_OK):
+        raise CourseError("export target", str(root), f"cannot be written: {parent} is not a writable folder")
+    return root
 
 
 def _description_source() -> Path:
@@ -220,6 +258,10 @@ def _description_source() -> Path:
 def export_ros2(target: str | Path, *, force: bool = False) -> Ros2Export:
     """Write the learner's description and bringup as ROS 2 packages under ``target``.
 
+    Everything is checked and prepared before the first file is written (the target, the learner's files, the
+    controller names, the generated files parsing), so a refused export leaves the disk as it was; an error while
+    writing removes what this call created.
+
     Args:
         target: Output folder; it must not exist yet, or be empty, unless ``force``.
         force: Write into an existing non-empty folder (files of the same name are replaced).
@@ -228,32 +270,35 @@ def export_ros2(target: str | Path, *, force: bool = False) -> Ros2Export:
         What was copied and generated.
 
     Raises:
-        CourseError: If ``target`` is a non-empty folder (and not ``force``), or the learner's description or
-            controllers YAML is missing.
+        CourseError: If ``target`` is empty, a file, not writable or a non-empty folder (and not ``force``); the
+            learner's description or controllers YAML is missing or unreadable; a controller name in it is not a
+            valid ROS node name; or writing fails.
     """
-    root = Path(target).expanduser().resolve()
-    if root.exists() and any(root.iterdir()) and not force:
+    root = _check_target(target)
+    if root.is_dir() and any(root.iterdir()) and not force:
         raise CourseError("export target", str(root), "is not empty; choose a new folder (or pass --force)")
     result = Ros2Export(root=root)
-
-    urdf_src = _description_source()
     description = root / "controlko_description"
-    for src in sorted(p for p in urdf_src.rglob("*") if p.is_file() and "__pycache__" not in p.parts):
-        dst = description / "urdf" / src.relative_to(urdf_src)
-        dst.parent.mkdir(parents=True, exist_ok=True)
-        shutil.copyfile(src, dst)
-        result.copied[dst] = src
+    bringup = root / "controlko_bringup"
 
+    # ---- plan: what is copied from where, and what is generated (nothing is written yet)
+    copies: dict[Path, Path] = {}
+    urdf_src = _description_source()
+    for src in sorted(p for p in urdf_src.rglob("*") if p.is_file() and "__pycache__" not in p.parts):
+        copies[description / "urdf" / src.relative_to(urdf_src)] = src
     yaml_src = tracks.task_dir(2) / "rrbot_bringup" / "config" / "rrbot_controllers.yaml"
     if not yaml_src.is_file():
         raise CourseError("task", 2, f"no controllers YAML at {yaml_src} to export")
-    bringup = root / "controlko_bringup"
-    yaml_dst = bringup / "config" / yaml_src.name
-    yaml_dst.parent.mkdir(parents=True, exist_ok=True)
-    shutil.copyfile(yaml_src, yaml_dst)
-    result.copied[yaml_dst] = yaml_src
-
-    config = load_controllers_yaml(yaml_src)
+    copies[bringup / "config" / yaml_src.name] = yaml_src
+    try:
+        config = load_controllers_yaml(yaml_src)
+    except ParameterError as exc:
+        raise CourseError("controllers file", str(yaml_src), f"cannot be exported: {exc}") from exc
+    for name in config.controller_types:
+        problem = node_name_problem(name)
+        if problem:
+            raise CourseError("controller", name, f"{yaml_src}: controller name {name!r} is not a valid ROS node name: "
+                              f"{problem}; {NODE_NAME_RULE}. Rename it; nothing was written")
     broadcasters = [n for n, t in config.controller_types.items() if t.endswith(_BROADCASTER_SUFFIXES)]
     result.robot_controllers = [n for n in config.controller_types if n not in broadcasters]
 
@@ -265,9 +310,7 @@ def export_ros2(target: str | Path, *, force: bool = False) -> Ros2Export:
             continue
         for src in sorted(folder.rglob("*.py")):
             dst = root / "python_reference" / relative / src.relative_to(folder)
-            dst.parent.mkdir(parents=True, exist_ok=True)
-            shutil.copyfile(src, dst)
-            result.copied[dst] = src
+            copies[dst] = src
             references.append(str(dst.relative_to(root / "python_reference")))
 
     files = {
@@ -286,8 +329,44 @@ def export_ros2(target: str | Path, *, force: bool = False) -> Ros2Export:
         root / "README.md": _readme(result.robot_controllers, references),
     }
     for path, text in files.items():
-        path.parent.mkdir(parents=True, exist_ok=True)
-        path.write_text(text)
-        _check_generated(path)
-        result.generated.append(path)
+        _check_generated(path.name, text)
+
+    # ---- write
+    created = _Created()
+    try:
+        created.folder(root)
+        for dst, src in copies.items():
+            created.folder(dst.parent)
+            shutil.copyfile(src, dst)
+            created.files.append(dst)
+            result.copied[dst] = src
+        for path, text in files.items():
+            created.folder(path.parent)
+            path.write_text(text)
+            created.files.append(path)
+            result.generated.append(path)
+    except OSError as exc:
+        created.undo()
+        raise CourseError("export target", str(root), f"writing failed ({exc.strerror or exc}); what this export "
+                          "had written was removed") from exc
     return result
+
+
+class _Created:
+    """What an export created, to remove it again if writing fails half-way."""
+
+    def __init__(self) -> None:
+        self.folders: list[Path] = []
+        self.files: list[Path] = []
+
+    def folder(self, path: Path) -> None:
+        missing = [p for p in (path, *path.parents) if not p.exists()]
+        for p in reversed(missing):
+            p.mkdir()
+            self.folders.append(p)
+
+    def undo(self) -> None:
+        for f in reversed(self.files):
+            f.unlink(missing_ok=True)
+        for d in reversed(self.folders):
+            shutil.rmtree(d, ignore_errors=True)

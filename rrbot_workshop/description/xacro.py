@@ -248,6 +248,8 @@ def process_xacro(path: str | Path, **mappings: Any) -> str:
         DescriptionError: If the file does not exist, xacro fails (bad XML, undefined property or argument,
             failing ``xacro:fatal``), or ``$(find pkg)`` names an unknown package. The message names the file.
     """
+    if not isinstance(path, str | os.PathLike) or not str(path).strip() or "\x00" in str(path):
+        raise DescriptionError(f"the xacro file must be given as a path, got {path!r}", source=repr(path)[:80])
     file = Path(path).expanduser()
     if not file.is_file():
         hint = "" if file.parent.is_dir() else f" (folder {file.parent} does not exist either)"

@@ -27,6 +27,7 @@ yet" and is skipped; an infinite command makes ``read`` return ERROR. Mimic join
 
 from __future__ import annotations
 
+import logging
 import math
 from collections.abc import Sequence
 from typing import Any
@@ -38,6 +39,8 @@ from rrbot_workshop.hardware_interface.handles import ADOPTIONS, CommandInterfac
 from rrbot_workshop.middleware.lifecycle import CallbackReturn, ReturnType, State
 
 __all__ = ["GenericSystem", "STANDARD_INTERFACES"]
+
+_log = logging.getLogger(__name__)
 
 POSITION, VELOCITY, ACCELERATION, EFFORT = "position", "velocity", "acceleration", "effort"
 #: The joint interfaces ros2_control names (``hardware_interface_type_values.hpp``).
@@ -231,6 +234,10 @@ class GenericSystem(SystemInterface):
         """Copy command ``name`` to the state of the same name; False if the command is infinite."""
         value = self._command_handles[name].get_value()
         data_type = self._state_handles[name].data_type
+        if not isinstance(value, int | float):  # None or a string written by a controller: refuse it clearly
+            _log.error("hardware '%s': command '%s' holds %r, not a number; the read fails", self.info.name, name,
+                       value)
+            return False
         if data_type in _FLOAT_TYPES:
             if math.isinf(value):
                 return False

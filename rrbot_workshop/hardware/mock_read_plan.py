@@ -9,12 +9,15 @@ gives each handle as its flat list and index; :func:`run_read_plan` then only mo
 
 from __future__ import annotations
 
+import logging
 from collections.abc import Mapping
 from typing import Any
 
 from rrbot_workshop.description.info import HardwareInfo
 from rrbot_workshop.hardware_interface.handles import CommandInterface, StateInterface
 from rrbot_workshop.middleware.lifecycle import ReturnType
+
+_log = logging.getLogger("rrbot_workshop.hardware.mock")
 
 __all__ = ["FOLLOW", "MIRROR_FLOAT", "MIRROR_BOOL", "MIMIC", "build_read_steps", "runs_of_one_kind", "run_read_plan"]
 
@@ -105,7 +108,17 @@ def runs_of_one_kind(
 
 
 def run_read_plan(runs: list[tuple[int, list[tuple[list[Any], int, list[Any], int, float, float]]]]) -> ReturnType:
-    """Run the prepared read; ERROR if a mirrored float command is infinite."""
+    """Run the prepared read; ERROR if a mirrored float command is infinite, or holds something that is not a
+    number (None written by a controller, a string): said in one line, not a traceback."""
+    try:
+        return _run(runs)
+    except TypeError:
+        _log.error("mock hardware: a command interface holds a value that is not a number; the read fails "
+                   "(write floats to double interfaces)")
+        return ReturnType.ERROR
+
+
+def _run(runs: list[tuple[int, list[tuple[list[Any], int, list[Any], int, float, float]]]]) -> ReturnType:
     # the handles are the component's own: their values are read and written in their flat lists directly, a
     # run of steps of one kind at a time (the order of the steps is kept: a mimic joint reads what the steps
     # before it wrote)

@@ -100,6 +100,10 @@ class HardwareComponent:
         >>> component.read(0.0, 0.01)             # ReturnType.OK
     """
 
+    #: ros2_control's ``handle_exceptions`` (the resource manager sets it): False lets an exception from the
+    #: implementation's ``read``/``write`` propagate to the caller instead of becoming ERROR.
+    handle_exceptions: bool = True
+
     def __init__(self, impl: HardwareComponentInterface) -> None:
         self._impl = impl
         self._exported: tuple[list[StateInterface], list[CommandInterface]] | None = None
@@ -226,35 +230,35 @@ class HardwareComponent:
         if self.get_lifecycle_state() is State.UNCONFIGURED:
             self._ensure_exported()
             result = self._callback("on_configure", self._impl.on_configure)
-            self._finish(result, success=State.INACTIVE, failure=State.UNCONFIGURED)
+            self._finish(result, success=State.INACTIVE, failure=State.UNCONFIGURED, what="on_configure")
         return self.get_lifecycle_state()
 
     def cleanup(self) -> State:
         """Call ``on_cleanup`` (allowed from ``inactive``): unconfigured / ``error()`` / ``error()``."""
         if self.get_lifecycle_state() is State.INACTIVE:
             result = self._callback("on_cleanup", self._impl.on_cleanup)
-            self._finish(result, success=State.UNCONFIGURED, failure=None)
+            self._finish(result, success=State.UNCONFIGURED, failure=None, what="on_cleanup")
         return self.get_lifecycle_state()
 
     def activate(self) -> State:
         """Call ``on_activate`` (allowed from ``inactive``): active / inactive / ``error()``."""
         if self.get_lifecycle_state() is State.INACTIVE:
             result = self._callback("on_activate", self._impl.on_activate)
-            self._finish(result, success=State.ACTIVE, failure=State.INACTIVE)
+            self._finish(result, success=State.ACTIVE, failure=State.INACTIVE, what="on_activate")
         return self.get_lifecycle_state()
 
     def deactivate(self) -> State:
         """Call ``on_deactivate`` (allowed from ``active``): inactive / active / ``error()``."""
         if self.get_lifecycle_state() is State.ACTIVE:
             result = self._callback("on_deactivate", self._impl.on_deactivate)
-            self._finish(result, success=State.INACTIVE, failure=State.ACTIVE)
+            self._finish(result, success=State.INACTIVE, failure=State.ACTIVE, what="on_deactivate")
         return self.get_lifecycle_state()
 
     def shutdown(self) -> State:
         """Call ``on_shutdown`` (allowed unless ``unknown`` or ``finalized``): finalized / ``error()`` / ``error()``."""
         if self.get_lifecycle_state() not in (State.UNKNOWN, State.FINALIZED):
             result = self._callback("on_shutdown", self._impl.on_shutdown)
-            self._finish(result, success=State.FINALIZED, failure=None)
+            self._finish(result, success=State.FINALIZED, failure=None, what="on_shutdown")
         return self.get_lifecycle_state()
 
     def error(self) -> State:
@@ -264,14 +268,19 @@ class HardwareComponent:
             self._set_state(State.UNCONFIGURED if result is CallbackReturn.SUCCESS else State.FINALIZED)
         return self.get_lifecycle_state()
 
-    def _finish(self, result: CallbackReturn, success: State, failure: State | None) -> None:
-        """Apply one row of the table; ``failure=None`` means FAILURE also goes through ``error()``."""
+    def _finish(self, result: CallbackReturn, success: State, failure: State | None, what: str = "") -> None:
+        """Apply one row of the table; ``failure=None`` means FAILURE also goes through ``error()``. A result other
+        than SUCCESS is logged with the state it leads to, as Jazzy's resource manager does."""
         if result is CallbackReturn.SUCCESS:
             self._set_state(success)
-        elif result is CallbackReturn.FAILURE and failure is not None:
+            return
+        before = self.get_lifecycle_state()
+        if result is CallbackReturn.FAILURE and failure is not None:
             self._set_state(failure)
         else:
             self.error()
+        _log.error("hardware '%s': %s returned %s in '%s'; it is now '%s'", self.name or type(self._impl).__name__,
+                   what or "a transition", result.value.upper(), before.label, self.get_lifecycle_state().label)
 
     # ----------------------------------------------------------------- interfaces
     def _ensure_exported(self) -> tuple[list[StateInterface], list[CommandInterface]]:
@@ -406,6 +415,8 @@ class HardwareComponent:
             exc: What the implementation raised, if anything.
         """
         if exc is not None:
+            if not self.handle_exceptions:  # ros2_control's handle_exceptions false: the caller gets it
+                raise exc
             result = self._return_type(what, _reraise, exc)
         elif result.__class__ is not ReturnType:
             result = self._return_type(what, lambda: result)

@@ -190,6 +190,8 @@ class HardwareCycle:
 
 def _raised(which: str, entry: ComponentEntry) -> ReturnType:
     """What the cycle does with an exception the wrapper or ``settle`` let through (called in the handler)."""
+    if not entry.component.handle_exceptions:
+        raise  # noqa: PLE0704 - called inside the cycle's handler: ros2_control's handle_exceptions false propagates
     _log.error("%s of hardware '%s' raised", which, entry.info.name, exc_info=True)
     return ReturnType.ERROR
 

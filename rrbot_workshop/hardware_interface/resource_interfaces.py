@@ -141,6 +141,10 @@ class ResourceInterfaces:
         """Forget a controller's exported state interfaces (cleanup / unload)."""
         self._storage.remove_controller_interfaces(controller_name, "state")
 
+    def has_controller_exports(self) -> bool:
+        """Whether any controller has exported interfaces stored here (else nothing can chain)."""
+        return bool(self._storage.exporter)
+
     def controller_of_interface(self, name: str) -> str | None:
         """The controller that exports interface ``name``, or None."""
         return self._storage.controller_of(name)

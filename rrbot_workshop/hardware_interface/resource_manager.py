@@ -69,6 +69,7 @@ class ResourceManager(ResourceInterfaces):
         self.allow_controller_activation_with_inactive_hardware = allow_controller_activation_with_inactive_hardware
         super().__init__()
         self._initial_states = dict(initial_states or {})
+        self._handle_exceptions = True
         #: Why the last prepare/perform command mode switch returned False ("" if it did not).
         self.last_switch_error = ""
         self._entries: dict[str, ComponentEntry] = {}
@@ -79,6 +80,18 @@ class ResourceManager(ResourceInterfaces):
         self._limiters: dict[str, list[tuple[JointCommandLimiter, dict[str, str], dict[str, str]]]] = {}
         if urdf is not None:
             self.load_urdf(urdf)
+
+    @property
+    def handle_exceptions(self) -> bool:
+        """ros2_control's ``handle_exceptions`` (default true): an exception from a component's ``read``/``write`` is
+        logged and becomes ERROR; false lets it propagate out of :meth:`read`/:meth:`write` (and the manager's cycle)."""
+        return self._handle_exceptions
+
+    @handle_exceptions.setter
+    def handle_exceptions(self, value: bool) -> None:
+        self._handle_exceptions = bool(value)
+        for entry in self._entries.values():
+            entry.component.handle_exceptions = self._handle_exceptions
 
     # ================================================================= loading (steps in resource_loading)
     def load_urdf(self, urdf: str) -> None:
@@ -134,6 +147,7 @@ class ResourceManager(ResourceInterfaces):
         if info.name in self._entries:
             raise HardwareError(f"hardware component '{info.name}' is already loaded")
         self._entries[info.name] = load_component(impl, info, self._storage, self.update_rate)
+        self._entries[info.name].component.handle_exceptions = self._handle_exceptions
         self._set_cycle_order()
         if _transition:
             target = self._initial_states.get(info.name, State.ACTIVE if self.activate_all else State.UNCONFIGURED)

@@ -42,6 +42,8 @@ class InterfaceStorage:
         #: controller name -> names of its exported reference / state interfaces.
         self.controller_references: dict[str, list[str]] = {}
         self.controller_states: dict[str, list[str]] = {}
+        #: exported interface name -> the controller that exports it (an index of the two above).
+        self.exporter: dict[str, str] = {}
 
     # ----------------------------------------------------------------- adding and removing
     def add_hardware(self, component: str, states: Sequence[StateInterface], commands: Sequence[CommandInterface]) -> None:
@@ -94,11 +96,18 @@ class InterfaceStorage:
             pool[h.name] = h
         target = self.controller_references if kind == "reference" else self.controller_states
         target[controller] = [h.name for h in handles]
+        for h in handles:
+            self.exporter[h.name] = controller
 
     def remove_controller_interfaces(self, controller: str, kind: str) -> None:
         """Forget the interfaces a controller exported."""
         source = self.controller_references if kind == "reference" else self.controller_states
+        other = self.controller_states if kind == "reference" else self.controller_references
         names = source.pop(controller, [])
+        still = set(other.get(controller, ()))
+        for n in names:
+            if n not in still and self.exporter.get(n) == controller:
+                del self.exporter[n]
         pool: dict[str, Any] = self.commands if kind == "reference" else self.states
         avail = self.available_commands if kind == "reference" else self.available_states
         for n in names:
@@ -148,10 +157,7 @@ class InterfaceStorage:
 
     def controller_of(self, name: str) -> str | None:
         """The controller that exports ``name``, or None for hardware interfaces."""
-        for ctrl, names in (*self.controller_references.items(), *self.controller_states.items()):
-            if name in names:
-                return ctrl
-        return None
+        return self.exporter.get(name)
 
     def value(self, name: str, kind: str | None = None) -> Any:
         """Current value of a stored interface.

@@ -22,9 +22,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-import yaml
-
 from rrbot_workshop.exceptions import ParameterError
+from rrbot_workshop.middleware.text_files import load_yaml, read_text
 
 __all__ = ["ControllersConfig", "load_controllers_yaml"]
 
@@ -67,19 +66,23 @@ def load_controllers_yaml(source: str | Path | Mapping[str, Any]) -> Controllers
     where = "<string>"
     if isinstance(source, Mapping):
         data: Any = source
+    elif not isinstance(source, str | Path):
+        raise ParameterError("controllers file", repr(source)[:80], f"must be a path, YAML text or a mapping, not "
+                                                                  f"{type(source).__name__}")
     else:
         text = str(source)
         if isinstance(source, Path) or (("\n" not in text) and text.endswith((".yaml", ".yml"))):
             path = Path(source)
             where = str(path)
-            try:
-                text = path.read_text()
-            except OSError as exc:
-                raise ParameterError("controllers file", where, f"cannot be read: {exc}") from exc
-        try:
-            data = yaml.safe_load(text) or {}
-        except yaml.YAMLError as exc:
-            raise ParameterError("controllers file", where, f"is not valid YAML: {exc}") from exc
+            text, problem = read_text(path)
+            if problem:
+                raise ParameterError("controllers file", where, problem)
+        data, problem = load_yaml(text)
+        if problem:
+            raise ParameterError("controllers file", where, problem)
+        if data is None:
+            raise ParameterError("controllers file", where, "is empty; it needs a 'controller_manager:' entry with "
+                                 "'ros__parameters:' (update_rate and the controllers' types)")
     if not isinstance(data, Mapping):
         raise ParameterError("controllers file", where, "must be a mapping of node names to 'ros__parameters'")
 

@@ -29,7 +29,7 @@ class State(enum.Enum):
     @property
     def id(self) -> int:
         """The numeric id of ``lifecycle_msgs/msg/State`` (0 unknown, 1 unconfigured, 2 inactive, 3 active, 4 finalized)."""
-        return list(State).index(self)
+        return _STATE_IDS[self]
 
     @classmethod
     def from_label(cls, label: str) -> State:
@@ -46,6 +46,10 @@ class State(enum.Enum):
 
     def __str__(self) -> str:
         return self.value
+
+
+#: ``lifecycle_msgs/msg/State`` id of each primary state (looked up, not searched: activity messages list many).
+_STATE_IDS: dict[State, int] = {state: k for k, state in enumerate(State)}
 
 
 class CallbackReturn(enum.Enum):

@@ -23,9 +23,8 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-import yaml
-
 from rrbot_workshop.exceptions import ParameterError
+from rrbot_workshop.middleware.text_files import load_yaml, read_text
 
 __all__ = ["substitute", "load_with_substitutions", "merge", "override"]
 
@@ -80,14 +79,12 @@ def load_with_substitutions(path: str | Path, variables: Mapping[str, Any]) -> d
         ParameterError: If the file cannot be read, a substitution fails, or the result is not a YAML mapping.
     """
     file = Path(path)
-    try:
-        text = file.read_text()
-    except OSError as exc:
-        raise ParameterError(_OWNER, str(file), f"cannot be read: {exc.strerror}") from exc
-    try:
-        data = yaml.safe_load(substitute(text, variables, source=str(file)))
-    except yaml.YAMLError as exc:
-        raise ParameterError(_OWNER, str(file), f"is not valid YAML after substitution: {exc}") from exc
+    text, problem = read_text(file)
+    if problem:
+        raise ParameterError(_OWNER, str(file), problem)
+    data, problem = load_yaml(substitute(text, variables, source=str(file)))
+    if problem:
+        raise ParameterError(_OWNER, str(file), f"after substitution {problem}")
     if not isinstance(data, dict):
         raise ParameterError(_OWNER, str(file), "must be a mapping of node names to their ros__parameters")
     return data

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from rrbot_workshop.exceptions import MessageError
+from rrbot_workshop.middleware.names import topic_name_problem
 from rrbot_workshop.msgs import ros_type_name
 
 __all__ = ["TopicBus", "Node", "Publisher", "Subscription", "Service", "resolve_name"]
@@ -251,8 +252,16 @@ class TopicBus:
         '/forward_position_controller/commands'?``).
 
         Raises:
-            MessageError: If the topic is known to carry another message type.
+            MessageError: If the topic is not a valid ROS topic name, ``msg`` is None, or the topic is known to carry
+                another message type.
         """
+        problem = topic_name_problem(topic)
+        if problem:
+            raise MessageError(f"cannot publish on {topic!r}: it is not a valid ROS topic name ({problem}); a topic "
+                               "name is parts of letters, digits and underscores separated by '/', e.g. "
+                               "'/forward_position_controller/commands'")
+        if msg is None:
+            raise MessageError(f"cannot publish None on '{topic}'; give a message object (e.g. Float64MultiArray(...))")
         known = self._types.get(topic)
         if known is not None and not isinstance(msg, known):
             raise MessageError(f"topic '{topic}' carries {known.__name__}, got {type(msg).__name__}")
@@ -278,8 +287,8 @@ class TopicBus:
             for sub in list(self._subs.get(topic, [])):
                 try:
                     sub.callback(msg)
-                except Exception:  # noqa: BLE001 - a subscriber's bug must not stop the bus
-                    _log.exception("subscriber of '%s' (%s) raised", topic, sub.owner or "anonymous")
+                except Exception as exc:  # noqa: BLE001 - a subscriber's bug must not stop the bus
+                    _report_callback_error(topic, sub, msg, exc)
                 count += 1
         return count
 
@@ -409,3 +418,14 @@ class Node:
     def destroy(self) -> None:
         """Remove this node's publishers, subscriptions and services from the bus."""
         self._bus.remove_owner(self._name)
+
+
+def _report_callback_error(topic: str, sub: Any, msg: Any, exc: Exception) -> None:
+    """A subscriber raised. The library's own callbacks are handed malformed messages (a field of the wrong type, a
+    None): one line says the message was rejected and why. Anyone else's callback gets its traceback, to debug it."""
+    owner = sub.owner or "anonymous"
+    module = getattr(sub.callback, "__module__", "") or ""
+    if module.startswith("rrbot_workshop."):
+        _log.error("'%s' rejected a %s on '%s': %s: %s", owner, type(msg).__name__, topic, type(exc).__name__, exc)
+    else:
+        _log.error("subscriber of '%s' (%s) raised", topic, owner, exc_info=exc)

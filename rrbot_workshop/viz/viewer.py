@@ -53,6 +53,29 @@ def live_viewer(root: str) -> Viewer | None:
     return viewer
 
 
+class _Held:
+    """The resources of one viewer that outlive nothing: released by ``close()`` or when the viewer is collected."""
+
+    __slots__ = ("server", "connection", "subscription")
+
+    def __init__(self) -> None:
+        self.server: Any = None
+        self.connection: Any = None
+        self.subscription: Any = None
+
+
+def _release(held: _Held) -> None:
+    """A viewer was garbage-collected without ``close()``: stop following, disconnect, stop its server."""
+    for name, stop in (("subscription", "destroy"), ("connection", "close"), ("server", "close")):
+        thing = getattr(held, name)
+        setattr(held, name, None)
+        if thing is not None:
+            try:
+                getattr(thing, stop)()
+            except Exception:  # noqa: BLE001 - a finalizer must not raise; say what was left
+                _log.warning("releasing a collected viewer's %s failed", name, exc_info=True)
+
+
 def _is_system(source: Any) -> bool:
     return not isinstance(source, (str, os.PathLike)) and hasattr(source, "urdf")
 
@@ -89,7 +112,10 @@ class Viewer:
             urdf, base_dir = load_urdf_text(source)
         self.model = RobotModel(urdf, base_dir=base_dir)
         self._root = f"{_ROBOTS}/" + (prefix or self.model.name).strip("/")
-        self._server: Any = None
+        # What must be let go when this viewer goes, even if nobody calls close(): its server, its connection and
+        # its subscription. The finalizer holds this record, never the viewer, so the viewer can be collected.
+        self._held = _Held()
+        weakref.finalize(self, _release, self._held)
         self._slider_boxes: list[weakref.ref[Any]] = []
         self._closed_reason = ""
         connection = None
@@ -97,13 +123,13 @@ class Viewer:
         if open_server:
             self._server, reused = self._take_over_or_start_server()
             connection = ZmqConnection(self._server.zmq_url)
+            self._held.connection = connection
             _LIVE_VIEWERS[self._root] = weakref.ref(self)
         self.scene = Scene(connection)
         if reused:
             self.scene.delete(self._root)  # what the previous viewer of this robot drew on the same server
         self._live_period = 1.0 / live_rate if live_rate > 0 else 0.0
         self._last_sent_stamp: float | None = None
-        self._subscription: Any = None
         self._recording: PoseRecording | None = None
         self._animation: Any = None
         self._closed = False
@@ -113,9 +139,32 @@ class Viewer:
         if self._system is not None and getattr(self._system, "bus", None) is not None:
             from rrbot_workshop.msgs import JointState
 
+            follow = weakref.WeakMethod(self._on_joint_state)  # the bus must not keep the viewer alive
+
+            def on_joint_state(msg: Any) -> None:
+                method = follow()
+                if method is not None:
+                    method(msg)
+
             self._subscription = self._system.bus.create_subscription(
-                JointState, "/joint_states", self._on_joint_state, owner="viewer"
+                JointState, "/joint_states", on_joint_state, owner="viewer"
             )
+
+    @property
+    def _server(self) -> Any:
+        return self._held.server
+
+    @_server.setter
+    def _server(self, server: Any) -> None:
+        self._held.server = server
+
+    @property
+    def _subscription(self) -> Any:
+        return self._held.subscription
+
+    @_subscription.setter
+    def _subscription(self, subscription: Any) -> None:
+        self._held.subscription = subscription
 
     def _take_over_or_start_server(self) -> tuple[Any, bool]:
         """The meshcat server of the previous live viewer of this robot (closing that viewer), or a new one.
@@ -380,6 +429,7 @@ class Viewer:
         if self.scene.connection is not None:
             self.scene.connection.close()
             self.scene.connection = None
+        self._held.connection = None
         if self._server is not None:
             self._server.close()
             self._server = None

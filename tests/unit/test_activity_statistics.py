@@ -30,21 +30,30 @@ def test_each_state_change_publishes_one_message_and_nothing_else_does() -> None
     cm = make_cm({"a": {"command_interfaces": ["joint1/position"]}, "b": {"command_interfaces": ["joint1/position"]}},
                  hardware=[(hw, make_info("arm", {"joint1": (["position"], ["position"])}))])
     history = lambda: cm.bus.history(ACTIVITY_TOPIC)  # noqa: E731
+    assert [_states(m) for m in history()] == [({}, {"arm": "active"})]  # start-up, as Jazzy
     cm.load_controller("a")
     assert _states(history()[-1]) == ({"a": "unconfigured"}, {"arm": "active"})
     cm.configure_controller("a")
     cm.switch_controllers(activate=["a"], strictness="strict")
-    assert [_states(m)[0] for m in history()] == [{"a": "unconfigured"}, {"a": "inactive"}, {"a": "active"}]
+    assert [_states(m)[0] for m in history()] == [{}, {"a": "unconfigured"}, {"a": "inactive"}, {"a": "active"}]
     for k in range(5):  # cycles without a change publish nothing
         cm.update(k * 0.01, 0.01)
     with pytest.raises(Exception):  # noqa: B017 - a rejected request changes nothing, so no message
         cm.switch_controllers(activate=["nope"], strictness="strict")
-    assert len(history()) == 3
+    assert len(history()) == 4
     hw.read_result = ReturnType.ERROR  # a failure in the loop: the component and its controller change
     cm.update(0.05, 0.01)
     assert _states(history()[-1]) == ({"a": "inactive"}, {"arm": "unconfigured"})
-    assert len(history()) == 4
+    assert len(history()) == 5
     assert history()[-1].controllers[0].state.id == 2  # lifecycle_msgs/State ids
+
+
+def test_activity_has_a_message_at_start_up() -> None:
+    """ros2_control controller_manager/test/test_controller_manager.cpp, controller_lifecycle (jazzy): before any
+    controller is loaded, ~/activity already holds the hardware components and no controllers."""
+    cm = make_cm({})
+    latest = cm.bus.latest(ACTIVITY_TOPIC)
+    assert latest is not None and _states(latest) == ({}, {"sys": "active"})
 
 
 def test_a_late_reader_finds_the_last_activity() -> None:
@@ -57,6 +66,8 @@ def test_a_late_reader_finds_the_last_activity() -> None:
 
 
 def test_statistics_count_periods_on_the_managers_clock_since_activation() -> None:
+    """ros2_control controller_manager/test/test_controller_manager.cpp, check_the_controller_update_rate (jazzy):
+    periodicity in [Hz], one measurement fewer than the updates (the first is not counted)."""
     cm = make_cm({"fast": {"command_interfaces": ["joint1/position"]},
                   "slow": {"command_interfaces": ["joint2/position"], "update_rate": 25}})
     load_configure(cm, "fast", "slow")
@@ -64,11 +75,12 @@ def test_statistics_count_periods_on_the_managers_clock_since_activation() -> No
     for k in range(100):
         cm.update(k * 0.01, 0.01)
     stats = cm.controller_statistics()
-    assert stats["fast"].period.count == 100 and stats["fast"].period.mean == pytest.approx(0.01)
-    assert stats["slow"].period.count == 25
-    assert stats["slow"].period.minimum == pytest.approx(0.04) and stats["slow"].period.maximum == pytest.approx(0.04)
+    assert stats["fast"].periodicity.count == 99 and stats["fast"].periodicity.mean == pytest.approx(100.0)
+    assert stats["slow"].periodicity.count == 24 and stats["slow"].execution_time.count == 25
+    assert stats["slow"].periodicity.minimum == pytest.approx(25.0) and stats["slow"].periodicity.maximum == pytest.approx(25.0)
     assert stats["fast"].execution_time.count == 100 and stats["fast"].execution_time.minimum >= 0.0
     cm.switch_controllers(deactivate=["fast"], strictness="strict")
     cm.switch_controllers(activate=["fast"], strictness="strict")
     cm.update(1.0, 0.01)
-    assert cm.controller_statistics()["fast"].period.count == 1, "statistics start over at activation"
+    assert cm.controller_statistics()["fast"].execution_time.count == 1, "statistics start over at activation"
+    assert cm.controller_statistics()["fast"].periodicity.count == 0, "the first update after activation is no period"

@@ -229,11 +229,29 @@ def test_set_gains_applies_new_gains():
     assert pid.compute_command(1.0, 1.0) == 1.5
 
 
-def test_set_gains_invalid_keeps_old_gains():
-    pid = Pid(1.0, 1.0, 1.0, i_clamp_max=1.0, i_clamp_min=-1.0)
-    with pytest.raises(ParameterError):
-        pid.set_gains(Gains(1.0, 1.0, 1.0, i_clamp_max=-1.0, i_clamp_min=1.0))
+def test_set_gains_invalid_keeps_old_gains(caplog: pytest.LogCaptureFixture):
+    """control_toolbox control_toolbox/test/pid_tests.cpp, UTermBadIBoundsTest (jazzy): bad bounds in set_gains do
+    not raise; the error is logged and the old gains stay."""
+    pid = Pid(1.0, 1.0, 1.0, u_clamp_max=1.0, u_clamp_min=-1.0, i_clamp_max=1.0, i_clamp_min=-1.0)
+    assert pid.set_gains(Gains(1.0, 1.0, 1.0, i_clamp_max=-1.0, i_clamp_min=1.0)) is False
+    assert pid.set_gains(1.0, 1.0, 1.0, u_clamp_max=-1.0, u_clamp_min=1.0) is False
     assert pid.get_gains().i_clamp_max == 1.0 and pid.get_gains().i_clamp_min == -1.0
+    assert pid.get_gains().u_clamp_max == 1.0 and pid.get_gains().u_clamp_min == -1.0
+    assert "u_clamp_min" in caplog.text and "i_clamp_min" in caplog.text
+
+
+def test_bad_u_bounds_in_the_constructor_raise():
+    """control_toolbox control_toolbox/test/pid_tests.cpp, UTermBadIBoundsTestConstructor (jazzy)."""
+    with pytest.raises(ParameterError, match="u_clamp_min"):
+        Pid(1.0, 1.0, 1.0, u_clamp_max=-1.0, u_clamp_min=1.0)
+
+
+@pytest.mark.parametrize("bad", ["1.0", None, [1.0], True])
+def test_a_gain_that_is_not_a_number_is_refused_clearly(bad):  # noqa: ANN001
+    with pytest.raises(ParameterError, match="'p'.*must be a number"):
+        Pid(bad)
+    pid = Pid(1.0)
+    assert pid.set_gains(bad) is False and pid.get_gains().p == 1.0
 
 
 # ------------------------------------------------------------------------------------------- legacy (Jazzy's default)

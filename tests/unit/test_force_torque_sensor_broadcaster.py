@@ -95,17 +95,34 @@ def test_offset_then_multiplier_correct_each_axis_in_the_message_and_the_exports
     w = h.latest("~/wrench").wrench
     got = [w.force.x, w.force.y, w.force.z, w.torque.x, w.torque.y, w.torque.z]
     assert got == pytest.approx([0.0, 2.2, (3.3 + 0.7) * 2.0, -4.4, (5.5 + 0.5) * 10.0, 6.6])
-    exported = [f"fts_broadcaster/{g}.{a}" for g in ("force", "torque") for a in "xyz"]
+    exported = [f"fts_broadcaster/tcp_fts_sensor/{g}.{a}" for g in ("force", "torque") for a in "xyz"]
     assert h.values(exported) == pytest.approx(got)
 
 
 def test_the_broadcaster_is_chainable_and_exports_six_state_interfaces_but_no_references():
-    h = _run({"sensor_name": "tcp_fts_sensor", "frame_id": "tool0"})
+    """ros2_controllers force_torque_sensor_broadcaster/test/test_force_torque_sensor_broadcaster.cpp,
+    SensorName_Publish_Success_with_Multipliers (jazzy): with sensor_name the exports are
+    <controller>/<sensor_name>/force.x ... torque.z, carrying the corrected values."""
+    h = _run({"sensor_name": "tcp_fts_sensor", "frame_id": "tool0", "multiplier": {"force": {"x": 2.0}}})
     c = h.controller
     assert c.is_chainable()
-    assert [i.name for i in c.exported_state_interfaces] == [
-        f"fts_broadcaster/{g}.{a}" for g in ("force", "torque") for a in "xyz"]
+    names = [f"fts_broadcaster/tcp_fts_sensor/{g}.{a}" for g in ("force", "torque") for a in "xyz"]
+    assert [i.name for i in c.exported_state_interfaces] == names
+    assert h.values(names) == pytest.approx([2.2, 2.2, 3.3, 4.4, 5.5, 6.6])
     assert c.reference_interfaces == []
+
+
+def test_interface_names_export_only_the_configured_axes():
+    """ros2_controllers force_torque_sensor_broadcaster/test/test_force_torque_sensor_broadcaster.cpp,
+    InterfaceNames_Publish_Success (jazzy): two configured axes, two exports named <controller>/<interface>."""
+    params = {"frame_id": "tool0", "interface_names": {"force": {"x": "tcp_fts_sensor/force.x"},
+                                                       "torque": {"z": "tcp_fts_sensor/torque.z"}}}
+    h = _run(params)
+    exported = h.controller.exported_state_interfaces
+    assert [i.name for i in exported] == ["fts_broadcaster/tcp_fts_sensor/force.x",
+                                          "fts_broadcaster/tcp_fts_sensor/torque.z"]
+    assert [i.prefix_name for i in exported] == ["fts_broadcaster", "fts_broadcaster"]
+    assert [i.get_value() for i in exported] == [1.1, 6.6]
 
 
 def test_a_non_number_offset_is_rejected_at_load():

@@ -182,6 +182,8 @@ def test_custom_frame_id_is_used_in_both_messages():
 
 
 def test_bool_interfaces_are_left_out_of_joint_states():
+    """ros2_controllers joint_state_broadcaster/test/test_joint_state_broadcaster.cpp,
+    NoThrowWithBooleanAndDoubleInterfaceTest (jazzy): the bool interface is skipped in both messages."""
     h = ControllerHarness(JointStateBroadcaster(), "jsb", {}, state_values={"joint1/position": 1.0})
     h.states["joint1/effort"] = StateInterface("joint1", "effort", data_type="bool", initial_value=True)
     h.configure()
@@ -189,7 +191,22 @@ def test_bool_interfaces_are_left_out_of_joint_states():
     h.update()
     msg = h.latest("/joint_states")
     assert msg.position == [1.0] and math.isnan(msg.effort[0])
-    assert h.latest("/dynamic_joint_states").interface_values[0].values == [1.0, 1.0]
+    dynamic = h.latest("/dynamic_joint_states")
+    assert dynamic.joint_names == ["joint1"]
+    assert dynamic.interface_values[0].interface_names == ["position"] and dynamic.interface_values[0].values == [1.0]
+
+
+def test_a_bool_interface_alone_publishes_no_joint():
+    """ros2_controllers joint_state_broadcaster/test/test_joint_state_broadcaster.cpp, NoThrowWithBooleanInterfaceTest
+    (jazzy): only a bool interface: configure, activate and update work, and no joint is listed."""
+    h = ControllerHarness(JointStateBroadcaster(), "jsb", {"joints": ["joint1"], "interfaces": ["is_moving"]},
+                          state_values={})
+    h.states["joint1/is_moving"] = StateInterface("joint1", "is_moving", data_type="bool", initial_value=True)
+    assert h.configure() is State.INACTIVE
+    assert h.activate() is State.ACTIVE
+    h.update()
+    assert h.latest("/dynamic_joint_states").joint_names == []
+    assert h.latest("/joint_states").name == []
 
 
 def test_activation_without_state_interfaces_fails(caplog):

@@ -75,18 +75,35 @@ def positions(h: ControllerHarness) -> list[float]:
         {"command_interfaces": []},
         {"state_interfaces": ["velocity"]},
         {"state_interfaces": ["position", "acceleration"]},
-        {"command_interfaces": ["velocity"], "state_interfaces": ["position"]},
-        {"command_interfaces": ["effort"], "state_interfaces": ["position"]},
         {"joints": []},
         {"joints": ["joint1", "joint1"]},
         {"interpolation_method": "cubic"},
-        {"command_joints": ["a", "b", "c"]},
     ],
 )
 def test_invalid_parameters_raise_parameter_error(overrides: dict[str, Any]) -> None:
     params = {"joints": JOINTS, "command_interfaces": ["position"], "state_interfaces": ["position"], **overrides}
     with pytest.raises(ParameterError):
         ControllerHarness(JointTrajectoryController(), "jtc", params)
+
+
+@pytest.mark.parametrize(
+    "overrides",
+    [
+        {"command_interfaces": ["velocity"], "state_interfaces": ["position"]},
+        {"command_interfaces": ["effort"], "state_interfaces": ["position"]},
+        {"command_interfaces": ["position", "effort"], "state_interfaces": ["position"]},
+        {"command_joints": ["a", "b", "c"]},
+        {"command_joints": ["joint_4"]},
+    ],
+)
+def test_combinations_needing_several_parameters_are_refused_at_configure(overrides: dict[str, Any]) -> None:
+    """ros2_controllers joint_trajectory_controller/test/test_trajectory_controller.cpp,
+    incorrect_initialization_using_interface_parameters (velocity-only / effort commands with position-only state:
+    init OK, configure fails) and check_interface_names_with_command_joints_greater_than_dof / _different_than_dof
+    (jazzy)."""
+    params = {"joints": JOINTS, "command_interfaces": ["position"], "state_interfaces": ["position"], **overrides}
+    h = ControllerHarness(JointTrajectoryController(), "jtc", params)
+    assert h.configure() is State.UNCONFIGURED
 
 
 def test_combination_error_names_the_parameter_and_the_valid_sets() -> None:
@@ -372,11 +389,13 @@ def test_cancel_holds_position() -> None:
 
 
 def test_new_goal_preempts_the_running_one() -> None:
+    """ros2_controllers joint_trajectory_controller/test/test_trajectory_actions.cpp,
+    preempted_goal_receives_aborted_result (jazzy): the preempted goal ends ABORTED with INVALID_GOAL."""
     h = make(state=(0.0, 0.0))
     first = h.controller.send_goal(traj((1.0, [1.0, 1.0])))
     follow(h, 10)
     second = h.controller.send_goal(traj((1.0, [0.5, 0.5])))
-    assert first.status is GoalStatus.CANCELED and first.result.error_code == Result.INVALID_GOAL
+    assert first.status is GoalStatus.ABORTED and first.result.error_code == Result.INVALID_GOAL
     follow(h, 150)
     assert second.status is GoalStatus.SUCCEEDED
 

@@ -114,8 +114,8 @@ def test_statistics_prints_periods_on_the_managers_clock(system, capsys) -> None
     system.spin(0.5)
     control("statistics --no-execution-time")
     lines = _out(capsys).splitlines()
-    assert lines[0].split() == ["controller", "updates", "period", "mean/min/max", "[ms]"]
-    assert lines[1].split() == ["fwd", "50", "10.00", "10.00", "10.00"] and lines[2].split() == ["other_fwd", "0"]
+    assert lines[0].split() == ["controller", "updates", "periodicity", "mean/min/max", "[Hz]"]
+    assert lines[1].split() == ["fwd", "50", "100.00", "100.00", "100.00"] and lines[2].split() == ["other_fwd", "0"]
     control("statistics")
     assert "execution mean/max [us]" in _out(capsys)
 

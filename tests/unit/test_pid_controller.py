@@ -145,15 +145,38 @@ def test_topic_reference_reaches_reference_interface():
 
 
 def test_feedforward_gain_single_interface():
-    """p=0.5, ff=1.0, target 5.0, state 1.1 -> 0.5*3.9 + 5.0 = 6.95."""
+    """ros2_controllers pid_controller/test/test_pid_controller.cpp, test_update_chained_feedforward_with_gain (jazzy):
+    feed-forward switched on: p=0.5, ff=1.0, target 5.0, state 1.1 -> 0.5*3.9 + 5.0 = 6.95."""
+    h = _active(_params(enable_feedforward=True, gains={"joint1": {"p": 0.5, "feedforward_gain": 1.0}}), chained=True)
+    _set_ref(h, "joint1/position", 5.0)
+    h.update()
+    assert h.value("joint1/acceleration") == pytest.approx(6.95)
+
+
+def test_feedforward_is_off_by_default_even_with_a_gain():
+    """ros2_controllers pid_controller/test/test_pid_controller.cpp, test_update_chained_feedforward_off_with_gain
+    (jazzy): feed-forward is off unless switched on: 0.5 * (5.0 - 1.1) = 1.95."""
     h = _active(_params(gains={"joint1": {"p": 0.5, "feedforward_gain": 1.0}}), chained=True)
+    assert h.controller.feedforward_mode_enabled is False
+    _set_ref(h, "joint1/position", 5.0)
+    h.update()
+    assert h.value("joint1/acceleration") == pytest.approx(1.95)
+
+
+def test_set_feedforward_control_service_switches_feedforward_on():
+    """Jazzy's ~/set_feedforward_control (std_srvs/SetBool) switches feed-forward at run time."""
+    from rrbot_workshop.msgs import SetBoolRequest
+
+    h = _active(_params(gains={"joint1": {"p": 0.5, "feedforward_gain": 1.0}}), chained=True)
+    response = h.bus.call_service(f"/{NAME}/set_feedforward_control", SetBoolRequest(data=True))
+    assert response.success and h.controller.feedforward_mode_enabled
     _set_ref(h, "joint1/position", 5.0)
     h.update()
     assert h.value("joint1/acceleration") == pytest.approx(6.95)
 
 
 def test_dual_interface_uses_error_dot_and_feedforward_on_derivative():
-    params = _params(reference_and_state_interfaces=["position", "velocity"],
+    params = _params(reference_and_state_interfaces=["position", "velocity"], enable_feedforward=True,
                      gains={"joint1": {"p": 1.0, "d": 0.5, "feedforward_gain": 2.0}})
     h = _active(params, chained=True, states={"joint1/position": 1.0, "joint1/velocity": 0.2})
     _set_ref(h, "joint1/position", 2.0)
