@@ -92,10 +92,17 @@ controller_interface:
 
 
 @functools.lru_cache(maxsize=64)
-def _schema(text: str) -> ParameterSchema:
-    """A controller type's declarations merged with the base ones, parsed once per type (not once per instance: a
-    manager may load hundreds of controllers of one type). The schema is only read afterwards."""
+def _parsed_schema(text: str) -> ParameterSchema:
     return ParameterSchema(text).merged(_BASE_SCHEMA)
+
+
+def _schema(declarations: Any) -> ParameterSchema:
+    """A controller type's declarations merged with the base ones. YAML text is parsed once per text (not once per
+    instance: a manager may load hundreds of controllers of one type; the schema is only read afterwards); declarations
+    already parsed (a mapping) are merged as they are."""
+    if isinstance(declarations, str):
+        return _parsed_schema(declarations)
+    return ParameterSchema(declarations).merged(_BASE_SCHEMA)
 
 
 class ControllerInterface:
