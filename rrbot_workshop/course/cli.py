@@ -63,6 +63,23 @@ def build_parser() -> argparse.ArgumentParser:
                         help="new folder for your description and bringup as ROS 2 packages (controlko_description, "
                              "controlko_bringup), from the current track")
     export.add_argument("--force", action="store_true", help="with --ros2: write into a folder that is not empty")
+    export.add_argument("--withhold-references", action="store_true",
+                        help="with --student: replace the library's worked answers (task 7's driver, task 8's "
+                             "controller, task 13's planner) by stand-ins; the copy's README says what they do")
+
+    init = sub.add_parser("init", help="make (or update) a learner's workspace from the course installed for a room")
+    init.add_argument("workspace", nargs="?", metavar="DIR", help="the workspace (default ~/rrbot_workshop)")
+    init.add_argument("--from", dest="source", metavar="COURSE",
+                      help="the installed course folder (default: the one this library belongs to)")
+    single = sub.add_parser("singleuser", help="JupyterHub's single-user server for a learner: init ~/rrbot_workshop, "
+                                               "then start jupyterhub-singleuser there (set it as the spawner's cmd)")
+    single.add_argument("args", nargs=argparse.REMAINDER, help="passed on to jupyterhub-singleuser")
+
+    room = sub.add_parser("class-report", help="the instructor's view of a room: every learner's progress from their "
+                                              "attempt logs, as JSON, CSV and HTML")
+    room.add_argument("workspaces", nargs="+", metavar="WORKSPACE",
+                      help="learners' course folders or homes, or globs of them ('/home/*')")
+    room.add_argument("--out", metavar="DIR", required=True, help="folder for report.json, report.csv, report.html")
 
     lint = sub.add_parser("lint", help="check controllers YAML files and descriptions against what Jazzy accepts")
     lint.add_argument("files", nargs="+", metavar="FILE",
@@ -148,6 +165,9 @@ def _cmd_export(args: argparse.Namespace) -> int:
     if args.ros2:
         from rrbot_workshop.course.ros2_export import export_ros2
 
+        if args.withhold_references:
+            raise CourseError("--withhold-references", "--ros2", "only applies to a student copy (--student DIR)")
+
         result = export_ros2(args.ros2, force=args.force)
         print(f"Wrote ROS 2 packages to {result.root}: {len(result.copied)} file(s) of yours copied as they are, "
               f"{len(result.generated)} generated (package.xml, CMakeLists.txt, launch file, README.md).")
@@ -155,8 +175,11 @@ def _cmd_export(args: argparse.Namespace) -> int:
         return 0
 
     left_out = uncommitted_changes(tracks.course_root())
-    target = export_student_copy(args.student)
+    target = export_student_copy(args.student, withhold_references=args.withhold_references)
     print(f"Wrote a student copy of the course as committed (without solutions/) to {target}")
+    if args.withhold_references:
+        print("The library's references for tasks 7, 8 and 13 are replaced by stand-ins (see the copy's README and "
+              "WITHHELD.json).")
     if left_out:
         print(f"Not in the copy: uncommitted changes to {len(left_out)} file(s), e.g. {', '.join(left_out[:3])}; "
               "commit them first if learners should get them.")
@@ -187,6 +210,47 @@ def _cmd_lint(args: argparse.Namespace) -> int:
     return LINT_ERRORS if any(f.level == "error" for f in findings) else 0
 
 
+def _cmd_init(args: argparse.Namespace) -> int:
+    from rrbot_workshop.course.workspace import init_workspace
+
+    result = init_workspace(args.workspace, args.source)
+    what = "made" if result.created else "updated"
+    print(f"Workspace {what}: {result.workspace} ({len(result.added)} exercise file(s) added, "
+          f"{len(result.updated)} updated)")
+    for rel in result.kept:
+        print(f"  {rel}: you changed it and so did the course; yours is kept, the course's is beside it as "
+              f"{Path(rel).name}.course-update")
+    for line in result.notebooks:
+        print(f"  {line}")
+    if result.created:
+        print(f"Work in {result.workspace}: open my_notebooks/00_intro.ipynb; in a terminal, cd there first.")
+    return 0
+
+
+def _cmd_singleuser(args: argparse.Namespace) -> int:
+    from rrbot_workshop.course.workspace import init_workspace, singleuser_command
+
+    result = init_workspace()
+    command = singleuser_command(result.workspace, list(args.args))
+    os.execvp(command[0], command)  # the server takes this process's place: the spawner's signals reach it
+    return 0  # pragma: no cover - execvp does not return
+
+
+def _cmd_class_report(args: argparse.Namespace) -> int:
+    from rrbot_workshop.course.class_report import build_report, write_report
+
+    report = build_report(args.workspaces)
+    paths = write_report(report, Path(args.out))
+    stuck = report.stuck()
+    print(f"{len(report.learners)} learner(s); wrote {', '.join(str(p) for p in paths)}")
+    if stuck:
+        top = stuck[0]
+        print(f"Most learners stuck on: task {top['task']} {top['check']} ({top['learners_failing']} learner(s))")
+    for note in report.notes:
+        print(f"note: {note}")
+    return 0
+
+
 _COMMANDS = {
     "grade": _cmd_grade,
     "progress": _cmd_progress,
@@ -194,12 +258,19 @@ _COMMANDS = {
     "reset": _cmd_reset,
     "export": _cmd_export,
     "lint": _cmd_lint,
+    "class-report": _cmd_class_report,
+    "init": _cmd_init,
+    "singleuser": _cmd_singleuser,
 }
 
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Run ``rrbot-workshop`` with ``argv`` (default ``sys.argv[1:]``) and return the exit status."""
     parser = build_parser()
+    given = list(sys.argv[1:] if argv is None else argv)
+    if given[:1] == ["singleuser"] and not {"-h", "--help"} & set(given[1:2]):
+        # everything after the command is the spawner's, options included (argparse would take them as ours)
+        return _cmd_singleuser(argparse.Namespace(args=given[1:]))
     try:
         args = parser.parse_args(argv)
     except SystemExit as exc:  # argparse: --help (0) or a usage error (2)

@@ -16,6 +16,7 @@ Each load re-reads the file from disk, so a learner edits, saves and re-runs the
 
 from __future__ import annotations
 
+import logging
 import os
 import pprint
 import re
@@ -27,6 +28,8 @@ from types import ModuleType
 from typing import Any
 
 from rrbot_workshop.course import tracks
+
+_log = logging.getLogger(__name__)
 
 __all__ = ["task_file", "shown", "load_module", "function", "ask", "short_error", "mine_or_reference", "run"]
 
@@ -94,6 +97,8 @@ def load_module(task: int, relpath: str, *, track: str | None = None, quiet: boo
     except Exception as exc:  # noqa: BLE001 - any error in a learner's file means "not usable yet"
         if not quiet:
             print(f"{relpath} cannot be imported yet ({short_error(exc, path)}); fix it, save and run this cell again.")
+        # a grader asks quietly; it still learns why (its rubric shows the learner's line, see grading.learner_errors)
+        _log.debug("%s cannot be imported: %s", relpath, short_error(exc, path), exc_info=exc)
         return None
     finally:
         sys.modules.pop(name, None)

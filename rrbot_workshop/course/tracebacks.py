@@ -9,11 +9,16 @@ these errors: it prints
 * the frames of the learner's code only: notebook cells and files outside the library and Python itself;
 * how many library frames were left out, and that ``%tb`` prints the full traceback.
 
+When the error comes from something the learner's code raised earlier in the same cell, and the library caught and
+logged (an ``on_configure`` that raised, so the switch that needed it was refused), that exception is shown first:
+the learner's file, line, function and exception, before what the library did because of it.
+
 Any other exception keeps IPython's usual traceback.
 """
 
 from __future__ import annotations
 
+import logging
 import os
 import sysconfig
 import traceback
@@ -24,7 +29,7 @@ from typing import Any
 from rrbot_workshop.exceptions import RRBotWorkshopError
 from rrbot_workshop.middleware.compiled import FILENAME_PREFIX
 
-__all__ = ["is_learner_frame", "short_traceback_lines", "short_traceback", "register"]
+__all__ = ["is_learner_frame", "CellErrors", "CELL_ERRORS", "short_traceback_lines", "short_traceback", "register"]
 
 _PACKAGE_DIR = Path(__file__).resolve().parent.parent
 
@@ -61,8 +66,52 @@ def _where(frame: traceback.FrameSummary, shell: Any = None) -> str:
     return f"  {place}, line {frame.lineno}{code}"
 
 
+def _learner_files_frames(tb: TracebackType | None) -> list[traceback.FrameSummary]:
+    """Frames in the learner's files (not notebook cells: the cell is where the library was called from)."""
+    return [f for f in traceback.extract_tb(tb) if is_learner_frame(f.filename) and not f.filename.startswith("<")]
+
+
+class CellErrors(logging.Handler):
+    """Keeps, for the running cell, the exceptions raised in the learner's files that the library caught and logged."""
+
+    def __init__(self) -> None:
+        super().__init__(level=logging.WARNING)
+        self.found: list[tuple[BaseException, traceback.FrameSummary]] = []
+
+    def emit(self, record: logging.LogRecord) -> None:
+        exc = record.exc_info[1] if record.exc_info else None
+        if exc is None or any(e is exc for e, _ in self.found):
+            return
+        mine = _learner_files_frames(exc.__traceback__)
+        if mine:
+            self.found.append((exc, mine[-1]))
+
+    def clear(self, *args: Any) -> None:
+        """Forget the previous cell's exceptions (IPython's ``pre_run_cell`` event)."""
+        self.found = []
+
+    def lines(self, shell: Any = None) -> list[str]:
+        """The learner's exceptions of this cell, first one first, or ``[]``."""
+        if not self.found:
+            return []
+        exc, frame = self.found[0]
+        code = f": {frame.line.strip()}" if frame.line else ""
+        out = ["Your code raised first (the library caught it and stopped what depended on it):",
+               f"  {os.path.basename(frame.filename)}, line {frame.lineno}, in {frame.name}{code}",
+               f"    {type(exc).__name__}: {exc}"]
+        if len(self.found) > 1:
+            out.append(f"  (and {len(self.found) - 1} more exception(s) from your code in this cell; see the log above)")
+        out.append("Then:")
+        return out
+
+
+#: The handler :func:`register` installs on the root logger.
+CELL_ERRORS = CellErrors()
+
+
 def short_traceback_lines(value: BaseException, tb: TracebackType | None, shell: Any = None) -> list[str]:
-    """The lines of the short traceback of ``value``: its clear line, the learner's frames, how to see all.
+    """The lines of the short traceback of ``value``: the learner's own exception first when the library caught one
+    in this cell, then the error's clear line, the learner's frames, how to see all.
 
     Args:
         value: The exception.
@@ -71,7 +120,7 @@ def short_traceback_lines(value: BaseException, tb: TracebackType | None, shell:
     """
     frames = traceback.extract_tb(tb)
     mine = [f for f in frames if is_learner_frame(f.filename)]
-    lines = [f"{type(value).__name__}: {value}"]
+    lines = CELL_ERRORS.lines(shell) + [f"{type(value).__name__}: {value}"]
     lines += [_where(f, shell) for f in mine[-3:]]
     hidden = len(frames) - len(mine[-3:])
     if hidden:
@@ -94,4 +143,8 @@ def register(ipython: Any) -> None:
     """Make ``ipython`` show :class:`RRBotWorkshopError` (and its subclasses) with :func:`short_traceback`."""
     if hasattr(ipython, "set_custom_exc"):
         ipython.set_custom_exc((RRBotWorkshopError,), short_traceback)
+    events = getattr(ipython, "events", None)
+    if events is not None and CELL_ERRORS not in logging.getLogger().handlers:
+        logging.getLogger().addHandler(CELL_ERRORS)
+        events.register("pre_run_cell", CELL_ERRORS.clear)
 

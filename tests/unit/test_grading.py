@@ -264,7 +264,19 @@ def test_failure_reason_keeps_the_reasons_listed_after_a_colon() -> None:
 
     text = _first_line(str(SwitchError(["'a' claims joint1/position", "'b' claims joint1/position"])))
     assert "'a' claims joint1/position" in text and "'b' claims joint1/position" in text
-    assert _first_line("expected 1\nassert 0 == 1") == "expected 1"
+    assert _first_line("a\n  b") == "a b"
+
+
+@pytest.mark.parametrize(("message", "reason"), [
+    ("expected 1\nassert 0 == 1", "expected 1"),
+    ("joint1 at 0.3 rad, expected 0.5 rad\nassert 0.3 == 0.5 ± 5.0e-07\n  +  where 0.3 = f()", "joint1 at 0.3 rad, expected 0.5 rad"),
+    ("a long reason " + "x" * 400 + " that ends here", "a long reason " + "x" * 400 + " that ends here"),
+    ("switch rejected, no controller changed state:\n  'a' holds joint1/position", "switch rejected, no controller changed state: 'a' holds joint1/position"),
+])
+def test_a_reason_is_the_graders_whole_message_without_pytests_expression(message: str, reason: str) -> None:
+    from rrbot_workshop.course.grading.plugin import _describe
+
+    assert _describe(AssertionError(message)) == reason
 
 
 def test_one_reason_for_checks_that_fail_for_the_same_reason_and_given_checks_score_nothing() -> None:
@@ -286,7 +298,7 @@ def test_one_reason_for_checks_that_fail_for_the_same_reason_and_given_checks_sc
 
 # ------------------------------------------------------------------------------- graduated hints, attempt log
 
-_GRADUATED = '''
+_GRADER_GRADUATED = '''
 from rrbot_workshop.course import tracks
 from rrbot_workshop.course.grading import graded
 
@@ -302,32 +314,65 @@ def test_other():
 '''
 
 
-def test_graduated_hints_go_one_level_deeper_per_failed_attempt_and_the_log_records_them(course: Path) -> None:
+def test_graduated_hints_go_one_level_deeper_per_new_failing_version_and_the_log_records_them(course: Path) -> None:
+    """Checking the same files again (a re-run self-check cell) keeps the hint; each changed, still failing version of
+    the learner's files shows the next level."""
     from rrbot_workshop.course.grading import attempts
 
-    (course / "tests" / "tasks" / "test_task05_fake.py").write_text(_GRADUATED)
+    (course / "tests" / "tasks" / "test_task05_fake.py").write_text(_GRADER_GRADUATED)
+    answer_file = course / "exercises" / "task05_fake" / "answer.txt"
     seen = []
-    for _ in range(4):
+    for text in ("?", "?", "41", "41", "40", "39"):
+        answer_file.write_text(text + "\n")
         answer = {c.name: c for c in check(5, check_timeout=2.0).checks}["answer"]
         seen.append(answer.hint)
-    assert seen[0].startswith("the concept (hint 1 of 3; another failed attempt")
-    assert seen[1].startswith("the API (hint 2 of 3")
-    assert seen[2] == seen[3] == "the code (hint 3 of 3)"
+    assert seen[0] == seen[1] and seen[0].startswith("the concept (hint 1 of 3; change your files and check again")
+    assert seen[2] == seen[3] and seen[2].startswith("the API (hint 2 of 3")
+    assert seen[4] == seen[5] == "the code (hint 3 of 3)"
     log = attempts.load(5)["attempts"]
-    assert len(log) == 4 and all(a["failed"] == ["answer", "other"] and a["score"] == 0 for a in log)
+    assert len(log) == 6 and all(a["failed"] == ["answer", "other"] and a["score"] == 0 for a in log)
+    assert len({a["version"] for a in log}) == 4
     assert (course / "exercises" / ".progress" / "task05.json").is_file()
-    (course / "exercises" / "task05_fake" / "answer.txt").write_text("42\n")
+    answer_file.write_text("42\n")
     check(5, check_timeout=2.0)
     summary = attempts.summary(5)
-    assert summary["attempts"] == 5 and summary["passed"] is False  # 'other' still fails: not a full score
-    assert attempts.failures(5, "answer") == 4
+    assert summary["attempts"] == 7 and summary["passed"] is False  # 'other' still fails: not a full score
+    assert attempts.failures(5, "answer") == 6
+    answer_file.write_text("43\n")  # wrong again after being right: the hint goes on from where it was
+    answer = {c.name: c for c in check(5, check_timeout=2.0).checks}["answer"]
+    assert answer.hint == "the code (hint 3 of 3)"
+
+
+def test_the_first_hint_stays_while_the_handed_out_file_is_unchanged(course: Path) -> None:
+    """A notebook's self-check cell run many times on the untouched exercise never moves past the first hint."""
+    (course / "tests" / "tasks" / "test_task05_fake.py").write_text(_GRADER_GRADUATED)
+    hints = {c.name: c for c in check(5, check_timeout=2.0).checks}["answer"].hint
+    for _ in range(2):
+        assert {c.name: c for c in check(5, check_timeout=2.0).checks}["answer"].hint == hints
+    assert hints.startswith("the concept (hint 1 of 3")
+
+
+def test_files_version_follows_contents_and_names_not_caches(tmp_path: Path) -> None:
+    from rrbot_workshop.course.grading.attempts import files_version
+
+    (tmp_path / "a.py").write_text("x = 1\n")
+    first = files_version(tmp_path)
+    (tmp_path / "__pycache__").mkdir()
+    (tmp_path / "__pycache__" / "a.cpython-311.pyc").write_bytes(b"\0")
+    assert files_version(tmp_path) == first
+    (tmp_path / "a.py").write_text("x = 2\n")
+    assert files_version(tmp_path) != first
+    (tmp_path / "a.py").write_text("x = 1\n")
+    assert files_version(tmp_path) == first
+    (tmp_path / "a.py").rename(tmp_path / "b.py")
+    assert files_version(tmp_path) != first
 
 
 def test_progress_does_not_count_as_an_attempt_and_reports_the_log(course: Path, capsys: pytest.CaptureFixture[str]) -> None:
     from rrbot_workshop.course.cli import main
     from rrbot_workshop.course.grading import attempts
 
-    (course / "tests" / "tasks" / "test_task05_fake.py").write_text(_GRADUATED.replace("assert False", "assert True"))
+    (course / "tests" / "tasks" / "test_task05_fake.py").write_text(_GRADER_GRADUATED.replace("assert False", "assert True"))
     attempts.record(5, 0.0, 3.0, ["answer"], now=1000.0)
     (course / "exercises" / "task05_fake" / "answer.txt").write_text("42\n")
     attempts.record(5, 3.0, 3.0, [], now=1095.0)
@@ -343,7 +388,7 @@ def test_no_attempt_log_for_the_solutions_track_a_copy_or_when_switched_off(
 ) -> None:
     from rrbot_workshop.course.grading import attempts
 
-    (course / "tests" / "tasks" / "test_task05_fake.py").write_text(_GRADUATED)
+    (course / "tests" / "tasks" / "test_task05_fake.py").write_text(_GRADER_GRADUATED)
     grade(5, track="solutions", check_timeout=2.0)
     grade(5, task_root=course / "exercises", check_timeout=2.0)
     monkeypatch.setenv(attempts.ENV, "0")
@@ -361,3 +406,63 @@ def test_an_unreadable_attempt_log_is_an_empty_one(course: Path) -> None:
     assert attempts.load(5) == {"attempts": []} and attempts.summary(5)["attempts"] == 0
     attempts.record(5, 1.0, 2.0, ["x"])
     assert attempts.failures(5, "x") == 1
+
+
+# ------------------------------------------------------------------------------- the learner's error first
+
+_GRADER_LEARNER_CODE = '''
+import logging
+
+import rrbot_workshop as rw
+from rrbot_workshop.course import tracks
+from rrbot_workshop.course.grading import graded
+
+
+def _module():
+    module = rw.course.load_module(5, "code.py", quiet=True)
+    assert module is not None, "code.py does not import"
+    return module
+
+
+@graded(points=1, hint=("idea", "api", "code"))
+def test_direct():
+    assert _module().answer() == 42, "answer() must return 42"
+
+
+@graded(points=1, hint=("idea", "api", "code"))
+def test_caught_by_the_library():
+    module = _module()
+    try:
+        module.answer()
+    except Exception:
+        logging.getLogger("rrbot_workshop.fake").error("answer() raised; treated as ERROR", exc_info=True)
+    assert False, "the switch was rejected"
+'''
+
+
+@pytest.mark.parametrize(("code", "direct", "caught"), [
+    ("def answer():\n    return {}['x']\n",
+     "your code.py, line 2, in answer: KeyError: 'x'",
+     "your code.py, line 2, in answer: KeyError: 'x'; then: the switch was rejected"),
+    ("def answer():\n    return helper(\n\ndef helper():\n    pass\n",
+     "your code.py, line 2: SyntaxError: '(' was never closed; then: code.py does not import",
+     "your code.py, line 2: SyntaxError: '(' was never closed; then: code.py does not import"),
+])
+def test_a_failure_caused_by_the_learners_code_names_their_file_line_function_and_exception_first(
+    course: Path, code: str, direct: str, caught: str
+) -> None:
+    (course / "tests" / "tasks" / "test_task05_fake.py").write_text(_GRADER_LEARNER_CODE)
+    (course / "exercises" / "task05_fake" / "code.py").write_text(code)
+    checks = {c.name: c for c in grade(5, check_timeout=5.0, record=False).checks}
+    assert checks["direct"].detail == direct
+    caught_check = checks["caught_by_the_library"]
+    # a reason equal to an earlier check's is given once ('same_as')
+    assert caught_check.detail == caught and (caught_check.same_as == "direct") == (caught == direct)
+
+
+def test_a_grader_failure_without_learner_code_involved_keeps_the_graders_words(course: Path) -> None:
+    (course / "tests" / "tasks" / "test_task05_fake.py").write_text(_GRADER_LEARNER_CODE)
+    (course / "exercises" / "task05_fake" / "code.py").write_text("def answer():\n    return 41\n")
+    checks = {c.name: c for c in grade(5, check_timeout=5.0, record=False).checks}
+    assert checks["direct"].detail == "answer() must return 42"
+    assert checks["caught_by_the_library"].detail == "the switch was rejected"

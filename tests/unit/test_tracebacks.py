@@ -77,3 +77,51 @@ def test_short_lines_of_an_error_raised_in_a_learners_file(tmp_path: Path):
     assert lines[0] == f"{type(info.value).__name__}: {info.value}"
     assert "  answers.py, line 4: rw.params.load_controllers_yaml('/nope.yaml')" in lines
     assert not any("params" in line and "rrbot_workshop" in line for line in lines[1:-1])
+
+
+BROKEN_DRIVER = textwrap.dedent(
+    """\
+    from rrbot_workshop.hardware import SystemInterface
+
+
+    class BrokenDriver(SystemInterface):
+        def on_configure(self, previous_state):
+            return self.open_device()
+    """
+)
+
+
+def test_a_learner_exception_the_library_caught_in_the_cell_is_shown_before_the_library_error(
+    shell, tmp_path: Path, capsys, monkeypatch
+):
+    """The driver's on_configure raises; the library logs it and refuses the switch: the cell shows the learner's
+    file, line, function and exception first, then the switch error; the next cell forgets it."""
+    (tmp_path / "broken_driver_tb.py").write_text(BROKEN_DRIVER, encoding="utf-8")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    cell = textwrap.dedent(
+        """\
+        import rrbot_workshop as rw, broken_driver_tb
+        from rrbot_workshop.middleware import plugins
+        plugins.register("hardware", "test_tracebacks/BrokenDriver", broken_driver_tb.BrokenDriver)
+        root = rw.description.descriptions_root()
+        urdf = rw.description.process_xacro(root / "rrbot/urdf/rrbot.urdf.xacro", use_mock_hardware=False)
+        urdf = urdf.replace("controlko_hardware_interface/RRBotHardwareInterface", "test_tracebacks/BrokenDriver")
+        system = rw.bringup(urdf, root / "rrbot/config/rrbot_controllers.yaml", spawn=["forward_position_controller"])
+        """
+    )
+    try:
+        result = shell.run_cell(cell)
+        out = capsys.readouterr().out
+        assert isinstance(result.error_in_exec, rw.SwitchError)
+        lines = [line for line in out.splitlines() if line.strip()]
+        assert lines[0].startswith("Your code raised first")
+        assert lines[1] == "  broken_driver_tb.py, line 6, in on_configure: return self.open_device()"
+        assert lines[2] == "    AttributeError: 'BrokenDriver' object has no attribute 'open_device'"
+        assert lines[3] == "Then:" and lines[4].startswith("SwitchError: switch rejected")
+        result = shell.run_cell("rw.description.process_xacro('no_such_file.urdf.xacro')")
+        assert isinstance(result.error_in_exec, rw.DescriptionError)
+        assert "Your code raised first" not in capsys.readouterr().out
+    finally:
+        from rrbot_workshop.middleware import plugins
+
+        plugins.unregister("hardware", "test_tracebacks/BrokenDriver")

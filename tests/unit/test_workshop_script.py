@@ -6,6 +6,7 @@ import os
 import signal
 import socket
 import subprocess
+import sys
 import time
 from pathlib import Path
 
@@ -61,3 +62,34 @@ def test_start_command_serves_jupyterlab_on_loopback_only() -> None:
             os.killpg(proc.pid, signal.SIGKILL)
             proc.wait()
     assert not _listening_addresses(port)
+
+
+def test_solutions_are_hidden_from_the_learners_file_browser_unless_an_instructor_shows_them() -> None:
+    from rrbot_workshop.course.launcher import jupyterlab_command
+
+    learner = next(a for a in jupyterlab_command(Path("python"), ROOT) if a.startswith("--ContentsManager.hide_globs="))
+    instructor = next(a for a in jupyterlab_command(Path("python"), ROOT, show_solutions=True)
+                      if a.startswith("--ContentsManager.hide_globs="))
+    assert "'solutions'" in learner and "'notebooks'" in learner
+    assert "'solutions'" not in instructor and "'notebooks'" in instructor
+
+
+def test_help_exits_0_and_an_unknown_command_exits_2(capsys: pytest.CaptureFixture[str]) -> None:
+    from rrbot_workshop.course.launcher import main
+
+    assert main(["--help"], root=ROOT) == 0 and "usage:" in capsys.readouterr().out
+    assert main(["frobnicate"], root=ROOT) == 2 and "usage:" in capsys.readouterr().err
+    result = subprocess.run([str(ROOT / ".venv" / "bin" / "python"), "-m", "rrbot_workshop", "--help"],
+                            capture_output=True, text=True, check=False, cwd=ROOT)
+    assert result.returncode == 0 and result.stdout.startswith("usage:")
+
+
+def test_the_tool_runs_from_any_terminal_through_the_workshop_script() -> None:
+    """`./workshop tasks` is `rrbot-workshop tasks` without the environment on the PATH."""
+    env = {k: v for k, v in os.environ.items() if k != "VIRTUAL_ENV"}
+    # only the Python the course was installed with, and the system's folders: not the course's environment
+    env["PATH"] = os.pathsep.join((os.path.dirname(os.path.realpath(sys.executable)), "/usr/bin", "/bin"))
+    result = subprocess.run([str(ROOT / "workshop"), "tasks"], capture_output=True, text=True, check=False, cwd=ROOT,
+                            env=env)
+    assert result.returncode == 0, result.stderr
+    assert "task01_description" in result.stdout

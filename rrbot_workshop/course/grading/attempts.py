@@ -2,13 +2,15 @@
 
 One small JSON file per task next to the learner's files, ``exercises/.progress/taskNN.json`` (git-ignored), written
 each time a learner grades their own exercises (``check(N)`` or ``rrbot-workshop grade N`` on the exercises track).
-It drives the graduated hints (a check's hint goes one level deeper each time it fails again) and gives the
-instructor, through ``rrbot-workshop progress --json``, the number of attempts and the time it took to pass.
+It drives the graduated hints (a check's hint goes one level deeper each time it fails again on a new version of
+the learner's files: grading an unchanged file again, or re-running a notebook's self-check cell, does not move it)
+and gives the instructor, through ``rrbot-workshop progress --json``, the number of attempts and the time it took to pass.
 Grading a copy (``--root``), the solutions track or the course's own tests records nothing.
 """
 
 from __future__ import annotations
 
+import hashlib
 import json
 import os
 import time
@@ -17,7 +19,8 @@ from typing import Any
 
 from rrbot_workshop.course import tracks
 
-__all__ = ["log_path", "load", "record", "failures", "summary", "recording_enabled"]
+__all__ = ["log_path", "load", "record", "failures", "failed_versions", "files_version", "summary",
+           "recording_enabled"]
 
 #: Set to "0" to grade without writing the log (the course's tests do).
 ENV = "RRBOT_WORKSHOP_RECORD_ATTEMPTS"
@@ -44,11 +47,39 @@ def load(task: int, exercises: str | os.PathLike[str] | None = None) -> dict[str
     return data if isinstance(data, dict) and isinstance(data.get("attempts"), list) else {"attempts": []}
 
 
-def record(task: int, score: float, max_score: float, failed: list[str], now: float | None = None) -> None:
-    """Append one attempt; never raises (a read-only course folder only loses the log)."""
+def files_version(folder: Path) -> str:
+    """A digest of the learner's files in a task folder (names and contents; caches and the log left out)."""
+    digest = hashlib.sha256()
+    if folder.is_dir():
+        for path in sorted(p for p in folder.rglob("*") if p.is_file()):
+            rel = path.relative_to(folder)
+            if any(part in ("__pycache__", ".progress", ".ipynb_checkpoints") for part in rel.parts):
+                continue
+            try:
+                data = path.read_bytes()
+            except OSError:
+                continue
+            digest.update(rel.as_posix().encode() + b"\0" + hashlib.sha256(data).digest())
+    return digest.hexdigest()[:16]
+
+
+def record(task: int, score: float, max_score: float, failed: list[str], now: float | None = None,
+           version: str = "", reasons: dict[str, str] | None = None) -> None:
+    """Append one attempt; never raises (a read-only course folder only loses the log).
+
+    Args:
+        task: Task number.
+        score: Points earned.
+        max_score: Points available.
+        failed: Names of the checks that failed.
+        now: Time of the attempt (seconds since the epoch); default now.
+        version: :func:`files_version` of the graded files.
+        reasons: Why each failed check failed (for the instructor's room report), at most 300 characters each.
+    """
     data = load(task)
     data["attempts"].append({"time": time.time() if now is None else now, "score": score, "max_score": max_score,
-                             "failed": sorted(failed)})
+                             "failed": sorted(failed), "version": version,
+                             "reasons": {k: str(v)[:300] for k, v in sorted((reasons or {}).items())}})
     path = log_path(task)
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
@@ -60,6 +91,18 @@ def record(task: int, score: float, max_score: float, failed: list[str], now: fl
 def failures(task: int, check: str) -> int:
     """How many recorded attempts failed ``check``."""
     return sum(check in a.get("failed", []) for a in load(task)["attempts"])
+
+
+def failed_versions(task: int, check: str, current: str) -> int:
+    """How many other versions of the learner's files failed ``check`` before (``current`` not counted).
+
+    The hint level of a failing check: the first failing version gets the first hint, each new version that still
+    fails the next one; grading the same files again gives the same hint. Attempts logged before versions were
+    recorded count as one version.
+    """
+    versions = {str(a.get("version") or "") for a in load(task)["attempts"] if check in a.get("failed", [])}
+    versions.discard(current)
+    return len(versions)
 
 
 def summary(task: int, exercises: str | os.PathLike[str] | None = None) -> dict[str, Any]:

@@ -22,6 +22,7 @@ from datetime import datetime
 from pathlib import Path, PurePosixPath
 
 from rrbot_workshop.course import tracks
+from rrbot_workshop.course.grading.references import readme_section, write_withheld_copy
 from rrbot_workshop.exceptions import CourseError
 
 __all__ = ["PRISTINE_ARCHIVE", "EXPORT_EXCLUDE", "ResetResult", "pristine_files", "reset_exercise",
@@ -222,12 +223,18 @@ def _student_readme(text: str) -> str:
     return re.sub(r"<!-- instructor -->.*?<!-- /instructor -->\n?", "", text, flags=re.DOTALL)
 
 
+def _with_section(text: str, section: str) -> str:
+    """``text`` with ``section`` before its "## License" heading (at the end if it has none)."""
+    at = text.find("\n## License")
+    return text.rstrip("\n") + "\n" + section if at < 0 else text[:at].rstrip("\n") + "\n" + section + text[at:]
+
+
 def _exported(rel: str) -> bool:
     parts = PurePosixPath(rel).parts
     return not (parts[0] in EXPORT_EXCLUDE_TOP or any(p in EXPORT_EXCLUDE or p.endswith(".egg-info") for p in parts))
 
 
-def export_student_copy(dest: str | os.PathLike[str]) -> Path:
+def export_student_copy(dest: str | os.PathLike[str], *, withhold_references: bool = False) -> Path:
     """Write a copy of the course for learners, as released: the files committed at git ``HEAD``, no ``solutions/``.
 
     The copy is built from git, never from the working tree, so an instructor's solved exercises or edits that are
@@ -236,8 +243,13 @@ def export_student_copy(dest: str | os.PathLike[str]) -> Path:
     ``rrbot-workshop reset`` find the pristine exercises the same way; ``.pristine/exercises.tar.gz`` is kept for a
     copy whose ``.git`` is removed. A course folder that is not a git checkout is copied as it is (with a warning).
 
+    The copy's README lists what the library itself contains that answers tasks
+    (:data:`~rrbot_workshop.course.grading.references.REFERENCES`).
+
     Args:
         dest: New folder (must not exist, or be empty, and must be outside the course folder).
+        withhold_references: Replace the library's Python references (the task-7 driver, the task-8 controller, the
+            task-13 planner) by stand-ins (see :mod:`rrbot_workshop.course.grading.references`).
 
     Returns:
         The copy's folder.
@@ -265,9 +277,11 @@ def export_student_copy(dest: str | os.PathLike[str]) -> Path:
             path.write_bytes(data)
             if rel in ("workshop", "workshop.py", ".ci/run"):
                 path.chmod(0o755)
+    if withhold_references:
+        write_withheld_copy(target)
     readme = target / "README.md"
     if readme.is_file():
-        readme.write_text(_student_readme(readme.read_text()))
+        readme.write_text(_with_section(_student_readme(readme.read_text()), readme_section(withhold_references)))
     archive = target / PRISTINE_ARCHIVE
     archive.parent.mkdir(parents=True, exist_ok=True)
     buffer = io.BytesIO()

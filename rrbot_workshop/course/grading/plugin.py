@@ -15,6 +15,7 @@ watchdog thread records the timeout and ends the process; the runner marks the c
 from __future__ import annotations
 
 import json
+import logging
 import os
 import signal
 import threading
@@ -25,6 +26,8 @@ from typing import Any
 
 import pytest
 
+from rrbot_workshop.course.grading.learner_errors import LEARNER_LOGGER, LearnerErrorLog, learner_location, learner_root
+from rrbot_workshop.course.grading.references import WITHHELD_SKIP
 from rrbot_workshop.course.grading.rubric import check_spec
 
 __all__ = ["CheckTimeout", "RubricCollector"]
@@ -37,24 +40,29 @@ class CheckTimeout(BaseException):  # noqa: N818 - reads as an event, like Keybo
     """Raised inside a check that ran longer than its time limit."""
 
 
-def _first_line(text: str, limit: int = 300) -> str:
-    """The first non-empty line; a line ending in ':' (a list follows, as in SwitchError) takes the list along."""
-    lines = [line.strip() for line in text.strip().splitlines() if line.strip()]
-    if not lines:
-        return ""
-    out = lines[0]
-    for line in lines[1:]:
-        if not out.endswith(":") and not line.startswith("- "):
+def _first_line(text: str) -> str:
+    """The message as one line: every non-empty line, stripped, joined by spaces (nothing is cut)."""
+    return " ".join(line.strip() for line in text.strip().splitlines() if line.strip())
+
+
+def _assertion_text(text: str) -> str:
+    """A failed ``assert``'s own message, without the expression pytest's rewriting appends (``assert 1 == 2``,
+    ``+  where ...``): the grader's words are the reason, pytest's are not."""
+    kept = []
+    for line in text.strip().splitlines():
+        if line.startswith(("assert ", "AssertionError: assert ")) or line.lstrip().startswith(("+  where", "+    ")):
             break
-        out = f"{out} {line}"
-    return out if len(out) <= limit else out[: limit - 3] + "..."
+        kept.append(line)
+    return _first_line("\n".join(kept))
 
 
 def _describe(exc: BaseException) -> str:
-    message = _first_line(str(exc))
     if isinstance(exc, AssertionError):
-        return message or "assertion failed"
+        return _assertion_text(str(exc)) or "assertion failed"
+    message = _first_line(str(exc))
     name = type(exc).__name__
+    if name == "Failed":  # pytest.fail(...): the grader's own words
+        return message or "failed"
     return f"{name}: {message}" if message else name
 
 
@@ -73,6 +81,27 @@ class RubricCollector:
         self.errors: list[str] = []
         self.finished = False
         self._current: str | None = None
+        self.root = learner_root()
+        #: The learner's exceptions the library caught and logged in the current check ...
+        self.learner_log = LearnerErrorLog(self.root)
+        #: ... and in the set-up of fixtures shared by several checks (a module's system), per module.
+        self._shared_errors: dict[str, list[str]] = {}
+
+    def start_logging(self) -> None:
+        """Keep the learner's exceptions that the library logs (see :class:`LearnerErrorLog`)."""
+        logging.getLogger().addHandler(self.learner_log)
+        logging.getLogger(LEARNER_LOGGER).setLevel(logging.DEBUG)
+
+    def _learner_error(self, item: pytest.Item, exc: BaseException | None) -> str | None:
+        """The learner's error behind a failure: in the exception itself, else logged by the library."""
+        found = learner_location(exc, self.root)
+        if found is not None:
+            return found
+        first = self.learner_log.first()
+        if first is not None:
+            return first
+        shared = self._shared_errors.get(str(getattr(item, "module", None)), [])
+        return shared[0] if shared else None
 
     # ------------------------------------------------------------------ output
     def dump(self) -> None:
@@ -130,7 +159,7 @@ class RubricCollector:
     # ------------------------------------------------------------------ hooks
     def pytest_collectreport(self, report: pytest.CollectReport) -> None:
         if report.failed:
-            self.errors.append(f"{report.nodeid or 'grader'}: {_first_line(str(report.longrepr), 2000)}")
+            self.errors.append(f"{report.nodeid or 'grader'}: {_first_line(str(report.longrepr))[:2000]}")
             self.dump()
 
     def pytest_collection_finish(self, session: pytest.Session) -> None:
@@ -152,8 +181,13 @@ class RubricCollector:
 
     @pytest.hookimpl(wrapper=True)
     def pytest_runtest_setup(self, item: pytest.Item) -> Generator[None, Any, Any]:
-        with self.time_limit(item.nodeid, "set-up"):
-            return (yield)
+        self.learner_log.clear()
+        try:
+            with self.time_limit(item.nodeid, "set-up"):
+                return (yield)
+        finally:
+            if self.learner_log.found:  # fixtures set up here may serve the module's later checks too
+                self._shared_errors.setdefault(str(getattr(item, "module", None)), []).extend(self.learner_log.found)
 
     @pytest.hookimpl(wrapper=True)
     def pytest_runtest_call(self, item: pytest.Item) -> Generator[None, Any, Any]:
@@ -174,13 +208,23 @@ class RubricCollector:
         if entry is None:
             return report
         if report.failed:
-            detail = _describe(call.excinfo.value) if call.excinfo is not None else "failed"
+            exc = call.excinfo.value if call.excinfo is not None else None
+            detail = _describe(exc) if exc is not None else "failed"
+            learner = self._learner_error(item, exc)
+            if learner is not None and learner_location(exc, self.root) is not None:
+                detail = learner  # the learner's exception reached the check: it is the reason
+            elif learner is not None and learner not in detail:
+                detail = f"{learner}; then: {detail}"
             if call.when != "call":
                 detail = f"in {call.when}: {detail}"
             self._fail(item.nodeid, detail)
         elif report.skipped:
             reason = report.longrepr[2] if isinstance(report.longrepr, tuple) else str(report.longrepr)
-            self._fail(item.nodeid, _first_line(f"skipped: {reason}"))
+            reason = reason.removeprefix("Skipped: ")
+            if reason.startswith(WITHHELD_SKIP):  # the reference it compares with is not in this copy
+                entry["given"], entry["status"], entry["detail"] = True, "passed", ""
+            else:
+                self._fail(item.nodeid, _first_line(f"skipped: {reason}"))
         elif call.when == "call" and entry["status"] == "pending":
             entry["status"] = "passed"
         if call.when == "teardown" and entry["status"] == "pending":
@@ -207,4 +251,5 @@ def pytest_addoption(parser: pytest.Parser) -> None:
 def pytest_configure(config: pytest.Config) -> None:
     path = config.getoption("--rubric-json")
     collector = RubricCollector(Path(path) if path else None, float(config.getoption("--check-timeout")))
+    collector.start_logging()
     config.pluginmanager.register(collector, "rrbot_workshop_rubric")

@@ -173,16 +173,21 @@ def grade(
     rubric.title = tracks.task_names().get(task, path.stem[len("test_"):])
     rubric.track = chosen if task_root is None else str(task_root)
     learner = record and attempts.recording_enabled(chosen, task_root)
+    version = attempts.files_version(tracks.task_dir(task, chosen)) if learner else ""
     for entry, result in zip(data.get("checks", []), rubric.checks, strict=False):
         levels = [str(h) for h in entry.get("hints") or [entry.get("hint", "")] if h]
         if result.passed or len(levels) < 2:
             continue
-        # graduated: the concept first, then the API, the code last; one level deeper per failed attempt
-        level = min(attempts.failures(task, result.name), len(levels) - 1) if learner else 0
-        more = "; another failed attempt shows the next hint" if level < len(levels) - 1 else ""
+        # graduated: the concept first, then the API, the code last; one level deeper per changed, still failing
+        # version of the learner's files (checking the same files again shows the same hint)
+        level = min(attempts.failed_versions(task, result.name, version), len(levels) - 1) if learner else 0
+        more = "; change your files and check again for the next hint" if level < len(levels) - 1 else ""
         result.hint = f"{levels[level]} (hint {level + 1} of {len(levels)}{more})"
     if learner:
-        attempts.record(task, rubric.score, rubric.max_score, [c.name for c in rubric.failed()])
+        failed = rubric.failed()
+        reasons = {c.name: c.detail for c in failed}
+        attempts.record(task, rubric.score, rubric.max_score, [c.name for c in failed], version=version,
+                        reasons=reasons)
     return rubric
 
 
