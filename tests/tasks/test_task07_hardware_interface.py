@@ -820,8 +820,10 @@ def test_mixed_modes_refused(driver: type) -> None:
 
 
 @graded(points=1, hint=(
-    "Task 7.4: a refusal gives its reason: the controller manager shows it in the switch error.",
-    "self.mode_switch_rejection holds the reason (the base class declares it); set it before returning ERROR.",
+    "Task 7.4: a refusal gives its reason. ros2_control's controller manager only says that the hardware refused the "
+    "switch, so a driver logs why; this course's also shows self.mode_switch_rejection in the switch error.",
+    "self.mode_switch_rejection holds the reason (the base class declares it); set it, and log it, before returning "
+    "ERROR.",
     "self.mode_switch_rejection = 'the RRBot device runs all joints in one mode, position or velocity'",
 ))
 def test_refusal_gives_a_reason(driver: type) -> None:
