@@ -62,6 +62,7 @@ JSB, FWD, VEL, JTC, BAD = ("joint_state_broadcaster", "forward_position_controll
                            "joint_trajectory_controller", "incompatible_joint_trajectory_controller")
 J1POS, J1VEL, J2POS, J2VEL = ("joint1_position_controller", "joint1_velocity_controller",
                               "joint2_position_controller", "joint2_velocity_controller")
+IO = "flange_io_controller"
 FCC = "forward_command_controller/ForwardCommandController"
 JTC_TYPE = "joint_trajectory_controller/JointTrajectoryController"
 FTS = ("fx", "fy", "fz", "tx", "ty", "tz")
@@ -154,6 +155,7 @@ def _drop(urdf: str, tag: str, name: str) -> str:
     return urdf[:start] + urdf[end:]
 
 
+@lru_cache(maxsize=32)
 def _info(urdf: str) -> Any:
     return parse_ros2_control(urdf)[0]
 
@@ -278,6 +280,9 @@ def _controllers(prefix: str = "") -> dict[str, tuple[str, dict[str, Any]]]:
         J1VEL: (FCC, {"joints": [j1], "interface_name": "velocity"}),
         J2POS: (FCC, {"joints": [j2], "interface_name": "position"}),
         J2VEL: (FCC, {"joints": [j2], "interface_name": "velocity"}),
+        IO: ("gpio_controllers/GpioCommandController", {
+            "gpios": [f"{prefix}flange_gpios"],
+            "command_interfaces": {f"{prefix}flange_gpios": {"interfaces": ["digital_out_1", "digital_out_2"]}}}),
     }
 
 
@@ -728,16 +733,18 @@ def _once(what: str, driver: type, run: Callable[[type], list[str]]) -> list[str
 
 def _follow_run(driver: type) -> list[str]:
     """Switch controllers one after the other; the first way the device does not follow them, or nothing."""
-    with _system(driver, (FWD, VEL, J1POS, J2POS, J1VEL), (FWD,), rate=50) as system:
+    with _system(driver, (FWD, VEL, J1POS, J2POS, J1VEL, IO), (FWD,), rate=50) as system:
         cm = system.controller_manager
         impl = system.resource_manager.get_component("rrbot").impl
         for activate, deactivate, expect, send, seconds, moved in (
+                ([IO], [], ControlMode.POSITION, None, 0.0, [None, None]),  # GPIO outputs are no joint mode
                 ([VEL], [FWD], ControlMode.VELOCITY, [0.2, -0.1], 0.5, [0.1, -0.05]),
                 ([FWD], [VEL], ControlMode.POSITION, [0.5, -0.2], 0.6, [0.3, -0.25]),  # back, from (0.2, 0.05)
                 ([J1VEL], [FWD], ControlMode.VELOCITY, [-0.3], 0.4, [-0.12, None]),  # joint1 alone commanded
                 ([J1POS, J2POS], [J1VEL], ControlMode.POSITION, None, 0.0, [None, None]),  # two controllers, one mode
                 ([VEL], [J1POS, J2POS], ControlMode.VELOCITY, [0.1, 0.1], 0.2, [0.02, 0.02])):
-            what = f"switching from {' and '.join(deactivate)} to {' and '.join(activate)}"
+            what = (f"switching from {' and '.join(deactivate)} to {' and '.join(activate)}" if deactivate else
+                    f"activating {' and '.join(activate)} (the digital outputs) beside {FWD}")
             try:
                 cm.switch_controllers(activate, deactivate, "strict")
             except SwitchError as exc:
@@ -968,14 +975,18 @@ _CLAIMS = {
 _OBSERVED = [f"{j}/{k}" for j in ("joint1", "joint2") for k in ("position", "velocity", "acceleration")] + [
     f"tcp_fts_sensor/{k}" for k in FTS] + ["flange_gpios/digital_out_1", "flange_gpios/digital_out_2"]
 
+_JOINTS = [f"{j}/{k}" for j in ("joint1", "joint2") for k in ("position", "velocity")]
+
 _switch = st.tuples(st.just("switch"), st.lists(st.sampled_from(sorted(_CLAIMS)), min_size=1, max_size=2, unique=True),
                     st.lists(st.sampled_from(sorted(_CLAIMS)), max_size=2, unique=True))
 _send = st.tuples(st.just("send"), st.sampled_from(sorted(_CLAIMS)),
                   st.lists(st.integers(-12, 12).map(lambda v: v / 10), min_size=4, max_size=4))
-_run = st.tuples(st.just("run"), st.integers(1, 40), st.sampled_from((0.01, 0.02, 0.005)))
+_run = st.tuples(st.just("run"), st.integers(1, 30), st.sampled_from((0.01, 0.02, 0.005)))
 _outputs = st.tuples(st.just("outputs"), st.sampled_from((0.0, 0.3, 0.5, 0.7, 1.0)), st.sampled_from((0.0, 0.5, 1.0)))
 _pause = st.tuples(st.just("pause"), st.integers(1, 5))
-_SCENARIOS = st.lists(st.one_of(_switch, _send, _run, _outputs, _pause), min_size=1, max_size=8)
+_SCENARIOS = st.lists(st.one_of(_switch, _send, _run, _outputs, _pause), min_size=1, max_size=7)
+#: Sequences run on both drivers at most, searching and shrinking together (a count, so grading stays deterministic).
+_BUDGET = 160
 
 
 def _mode(rig: Rig) -> ControlMode | None:
@@ -994,12 +1005,12 @@ class _Pair:
     def both(self, fn: Callable[[Rig], Any]) -> tuple[Any, Any]:
         return fn(self.mine), fn(self.ref)
 
-    def compare(self, when: str) -> str:
+    def compare(self, when: str, names: list[str] = _OBSERVED) -> str:
         if self.mine.state is not self.ref.state:
             return f"{when} your component is '{self.mine.state.label}', the library's is '{self.ref.state.label}'"
         if self.mine.state not in (State.INACTIVE, State.ACTIVE):
             return ""
-        for name in _OBSERVED:
+        for name in names:
             a, b = self.mine.value(name), self.ref.value(name)
             if not _close(a, b):
                 return f"{when} {name} reads {a:.4g} with your driver and {b:.4g} with the library's"
@@ -1065,7 +1076,8 @@ class _Pair:
         for k in range(n):
             for rig in (self.mine, self.ref):
                 rig.component.read(rig.time, period)
-            difference = self.compare(f"after read {k + 1}{' ' + note if note else ''},")
+            last = k == n - 1
+            difference = self.compare(f"after read {k + 1}{' ' + note if note else ''},", _OBSERVED if last else _JOINTS)
             if difference:
                 return difference
             for controller, values in self.active.items():
@@ -1107,10 +1119,15 @@ REFERENCE = "rrbot_workshop.hardware.rrbot"  # the library's driver
 def test_same_as_the_library_driver(driver: type) -> None:
     reference = reference_or_skip(REFERENCE).RRBotHardwareInterface
     _rig(driver)  # the driver comes up at all, or the reason says which callback stops it
-    config = settings(derandomize=True, database=None, deadline=None, max_examples=60,
+    config = settings(derandomize=True, database=None, deadline=None, max_examples=50,
                       suppress_health_check=list(HealthCheck))
+    runs = itertools.count(1)
+
+    def differs(steps: list[tuple[Any, ...]]) -> bool:
+        return next(runs) <= _BUDGET and bool(_Pair(driver, reference).play(steps))
+
     try:
-        smallest = find(_SCENARIOS, lambda steps: bool(_Pair(driver, reference).play(steps)), settings=config)
+        smallest = find(_SCENARIOS, differs, settings=config)
     except NoSuchExample:
         return
     pair = _Pair(driver, reference)

@@ -145,6 +145,9 @@ WRONG = [
            '        return (self.claimed - set(stop_interfaces)) | started\n',
            '        started = {name for name in start_interfaces if name.rpartition("/")[0] in self.joints}\n'
            '        return {n for n in (self.claimed - set(stop_interfaces)) | started if n.startswith(self.joints[0])}\n')),
+    wrong("gpio_interfaces_counted_as_a_mode", {"mode_follows_the_controllers"},
+          ('        started = {name for name in start_interfaces if name.rpartition("/")[0] in self.joints}\n',
+           "        started = set(start_interfaces)\n")),
     wrong("rejection_without_a_reason", {"refusal_gives_a_reason"},
           ('            self.mode_switch_rejection = ("the RRBot device runs all joints in one mode; this switch would '
            'command "\n                                          "them in position and in velocity at once")\n', ""),
