@@ -31,7 +31,7 @@ import logging
 import math
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
-from functools import lru_cache
+from functools import cache, lru_cache
 from pathlib import Path
 from typing import Any
 
@@ -123,7 +123,7 @@ def _failed(callback: str, component: HardwareComponent, before: BaseException |
 # --------------------------------------------------------------------------------------------- descriptions
 
 
-@lru_cache(maxsize=None)
+@cache
 def _xacro(prefix: str) -> str:
     return rw.description.process_xacro(descriptions_root() / "rrbot/urdf/rrbot.urdf.xacro", use_mock_hardware=False,
                                         prefix=prefix)
@@ -253,7 +253,7 @@ def _device(rig: Rig) -> RRBotDevice:
     device = rig.device
     if not isinstance(device, RRBotDevice):
         _fail(f"after on_configure your driver's self.device is {device!r}: open the device there, "
-                    "self.device = RRBotDevice(...) (the exercise's __init__ declares self.device)")
+              "self.device = RRBotDevice(...) (the exercise's __init__ declares self.device)")
     return device
 
 
@@ -314,15 +314,21 @@ def _system(cls: type, names: tuple[str, ...], spawn: tuple[str, ...], rate: int
                 raised = component.last_error
                 extra = f" Your driver raised {_raised(raised)}." if raised is not None and raised is not before else ""
                 _fail(f"activating {', '.join(spawn)} on your driver was refused: {exc}.{extra} One controller "
-                            "commanding the joints in one mode must be accepted (prepare_command_mode_switch returns "
-                            "OK).")
+                      "commanding the joints in one mode must be accepted (prepare_command_mode_switch returns OK).")
         yield system
     finally:
         system.shutdown()
 
 
+def _system_device(system: rw.System) -> RRBotDevice:
+    device = getattr(system.resource_manager.get_component("rrbot").impl, "device", None)
+    if not isinstance(device, RRBotDevice):
+        _fail(f"your driver's self.device is {device!r} while the component is active; open the device in on_configure")
+    return device
+
+
 def _positions(system: rw.System) -> list[float]:
-    return list(system.resource_manager.get_component("rrbot").impl.device.read_joint_states()[0])
+    return list(_system_device(system).read_joint_states()[0])
 
 
 # --------------------------------------------------------------------------------------------- 7.1 on_init
@@ -735,7 +741,6 @@ def _follow_run(driver: type) -> list[str]:
     """Switch controllers one after the other; the first way the device does not follow them, or nothing."""
     with _system(driver, (FWD, VEL, J1POS, J2POS, J1VEL, IO), (FWD,), rate=50) as system:
         cm = system.controller_manager
-        impl = system.resource_manager.get_component("rrbot").impl
         for activate, deactivate, expect, send, seconds, moved in (
                 ([IO], [], ControlMode.POSITION, None, 0.0, [None, None]),  # GPIO outputs are no joint mode
                 ([VEL], [FWD], ControlMode.VELOCITY, [0.2, -0.1], 0.5, [0.1, -0.05]),
@@ -749,7 +754,7 @@ def _follow_run(driver: type) -> list[str]:
                 cm.switch_controllers(activate, deactivate, "strict")
             except SwitchError as exc:
                 return [f"{what} was refused ({exc}); every joint would be commanded in one mode, so it must be accepted"]
-            mode = impl.device.get_control_mode()
+            mode = _system_device(system).get_control_mode()
             if mode is not expect:
                 return [f"after {what} the device is in {mode.name} mode; it must be in {expect.name}"]
             start = _positions(system)
@@ -788,9 +793,9 @@ def _refusal_run(driver: type) -> list[str]:
                 problems.append(f"{what}: the switch was accepted")
                 return problems  # what follows would start from a changed system
             after = [(c.name, c.state) for c in cm.list_controllers()]
-            if after != before or impl.device.get_control_mode() is not ControlMode.POSITION:
+            if after != before or _system_device(system).get_control_mode() is not ControlMode.POSITION:
                 problems.append(f"{what}: after the refusal the controllers or the device's mode "
-                                f"({impl.device.get_control_mode().name}) changed")
+                                f"({_system_device(system).get_control_mode().name}) changed")
                 return problems
         try:
             cm.switch_controllers([VEL], [J1POS, J2POS], "strict")
@@ -954,13 +959,13 @@ def test_yaml_controller_refused_by_the_hardware(task_file: Callable[[int, str],
                 f"activating {BAD} from your YAML was refused, but not by the hardware: {exc}")
         else:
             _fail(f"{BAD} from your YAML was activated on the RRBot driver; it must command position and "
-                        "velocity, which the driver refuses")
+                  "velocity, which the driver refuses")
         for activate, deactivate in (([VEL], [FWD]), ([JTC], [VEL])):
             try:
                 cm.switch_controllers(activate, deactivate, "strict")
             except SwitchError as exc:
                 _fail(f"with your {YAML}, switching from {deactivate[0]} to {activate[0]} was refused: {exc}; "
-                            "keep the YAML's other controllers as they were")
+                      "keep the YAML's other controllers as they were")
 
 
 # --------------------------------------------------------------------------------------------- side by side

@@ -7,9 +7,9 @@ points, failing the checks named; each alternative is written differently and mu
 from __future__ import annotations
 
 import pytest
+from grader_variants import Variant, assert_full_marks, assert_loses_points, grade_variants
 
 from rrbot_workshop.course import tracks
-from grader_variants import Variant, assert_full_marks, assert_loses_points, grade_variants
 
 HAS_SOLUTIONS = (tracks.course_root() / "solutions").is_dir()
 pytestmark = pytest.mark.skipif(not HAS_SOLUTIONS, reason="this copy of the course has no solutions/")
