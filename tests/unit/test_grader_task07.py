@@ -24,7 +24,7 @@ def wrong(name: str, fails: set[str], *changes: tuple[str, str], file: str = PY,
 
 WRONG = [
     # the original workshop's bugs
-    wrong("mix_check_commented_out", {"mixed_modes_refused"}, ("        if len(modes) > 1:\n", "        if False:\n")),
+    wrong("mix_check_commented_out", {"mixed_modes_refused", "same_as_the_library_driver"}, ("        if len(modes) > 1:\n", "        if False:\n")),
     wrong("velocity_branch_copy_pasted", {"mode_follows_the_controllers"},
           ("            self.next_mode = ControlMode.VELOCITY\n", "            self.next_mode = ControlMode.POSITION\n")),
     wrong("effort_carries_the_acceleration", {"effort_reads_nan"},
@@ -97,7 +97,7 @@ WRONG = [
     wrong("commands_in_reverse_joint_order", {"joint_states_and_commands"},
           ('        positions = [self.get_command(f"{joint}/position") for joint in self.joints]\n',
            '        positions = [self.get_command(f"{joint}/position") for joint in reversed(self.joints)]\n')),
-    wrong("acceleration_not_filled", {"acceleration_states"},
+    wrong("acceleration_not_filled", {"acceleration_states", "same_as_the_library_driver"},
           ('                self.set_state(f"{joint}/acceleration", a)\n', "                pass\n")),
     wrong("sensor_names_hard_coded", {"sensor_values"},
           ('            for interface, value in zip(sensor.state_interfaces, values, strict=True):\n'
@@ -140,7 +140,7 @@ WRONG = [
            "        modes = {name.rpartition(\"/\")[2] for name in start_interfaces}\n")),
     wrong("stopped_interfaces_not_released", {"mode_follows_the_controllers"},
           ("        return (self.claimed - set(stop_interfaces)) | started\n", "        return self.claimed | started\n")),
-    wrong("only_joint1_looked_at", {"mixed_modes_refused"},
+    wrong("only_joint1_looked_at", {"mixed_modes_refused", "same_as_the_library_driver"},
           ('        started = {name for name in start_interfaces if name.rpartition("/")[0] in self.joints}\n'
            '        return (self.claimed - set(stop_interfaces)) | started\n',
            '        started = {name for name in start_interfaces if name.rpartition("/")[0] in self.joints}\n'
