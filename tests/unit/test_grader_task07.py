@@ -34,6 +34,9 @@ WRONG = [
     wrong("sensor_gets_the_gpio_values", {"sensor_values"},
           ("            values = self.device.read_sensor_values(len(sensor.state_interfaces))\n",
            "            values = [float(b) for b in self.device.read_gpio()[0]] * 3\n")),
+    wrong("a_colon_missing", {"init_accepts_rrbot", "configure_opens_the_device", "same_as_the_library_driver"},
+          ("    def on_deactivate(self, previous_state: State) -> CallbackReturn:\n",
+           "    def on_deactivate(self, previous_state: State) -> CallbackReturn\n"), names_file=PY),
     # 7.1
     wrong("no_description_check", {"init_refuses_joint_interfaces"},
           ('            if commands != ["position", "velocity"]:\n', "            if False:\n"),
