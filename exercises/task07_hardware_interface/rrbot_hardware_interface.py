@@ -16,6 +16,9 @@ The lifecycle, as the resource manager drives it:
 * ``prepare_command_mode_switch``/``perform_command_mode_switch`` when controllers start or stop claiming
   command interfaces.
 
+How it is checked: every state must carry the device's own value, unchanged (compared to 1e-9); the joints' motion
+through a running controller manager is compared within 0.01 rad (one cycle at the device's 0.5 rad/s).
+
 The interfaces themselves are exported for you, one per ``<state_interface>`` and ``<command_interface>`` of the
 description: use ``self.set_state(name, value)``, ``self.get_command(name)`` and ``self.set_command(name, value)`` with
 full names such as ``"joint1/position"``. Work through the TODOs in order; notebook 07 runs your driver after each step,
@@ -57,14 +60,16 @@ class RRBotHardwareInterface(SystemInterface):
     # ---------------------------------------------------------------------------- 7.2 configure, activate
 
     def on_configure(self, previous_state: State) -> CallbackReturn:
-        # TODO(task 7.2): open the device (one per joint; the hardware parameter 'seed', default 0, seeds it). No
-        #   controller holds a command interface yet. The device measures no torque: what should an effort state
-        #   report? Then fill the states once, so they show the robot as it is before anything runs.
+        # TODO(task 7.2): open the device: one RRBotDevice for the whole robot, sized to the description's joints
+        #   (number_of_dofs = the number of <joint> elements) and seeded by the hardware parameter 'seed' (default 0).
+        #   No controller holds a command interface yet. The device measures no torque: what should an effort state
+        #   report (which float means "unknown")? Then fill the states once, so they show the robot as it is before
+        #   anything runs.
         raise NotImplementedError("TODO(task 7.2): on_configure")
 
     def on_activate(self, previous_state: State) -> CallbackReturn:
-        # TODO(task 7.2): enable the device's movement. A controller that takes over must not make the robot jump:
-        #   what should the command interfaces hold at this moment?
+        # TODO(task 7.2): enable the device's movement. A controller that takes over must not make the robot jump,
+        #   in position or in velocity mode: what should the command interfaces hold at this moment?
         raise NotImplementedError("TODO(task 7.2): on_activate")
 
     def on_deactivate(self, previous_state: State) -> CallbackReturn:
@@ -81,12 +86,15 @@ class RRBotHardwareInterface(SystemInterface):
         # TODO(task 7.3): from the device into the state interfaces: the joints (position, velocity and, if declared,
         #   acceleration), the sensor's values in the order of its state interfaces, and the GPIOs: digital_in_N is
         #   input N, digital_out_N reads back output N (1.0 or 0.0). The original got these wrong: effort carried the
-        #   acceleration and the sensor and GPIO values were swapped. Each interface gets its own value.
+        #   acceleration and the sensor and GPIO values were swapped. Each interface gets its own value. read also
+        #   runs while the component is inactive. If the device fails (raises), report it: let the exception through
+        #   or return ERROR, never OK.
         raise NotImplementedError("TODO(task 7.3): read")
 
     def write(self, time: float, period: float) -> ReturnType:
         # TODO(task 7.3): the joints' position and velocity commands to the device, for the period that passed (the
-        #   device uses those of its mode), then the digital outputs (a command above 0.5 is on; NaN: no command yet).
+        #   device uses those of its mode), then the digital outputs (a command above 0.5 is on, 0.5 and below off;
+        #   NaN: no command yet, keep the output). A failing device is reported here too.
         raise NotImplementedError("TODO(task 7.3): write")
 
     # ---------------------------------------------------------------------------------- 7.4 control modes

@@ -109,7 +109,7 @@ def load_component(impl: Any, info: HardwareInfo, storage: InterfaceStorage, upd
         raise HardwareError(
             f"hardware component '{info.name}' ({info.hardware_plugin_name or type(impl).__name__}) failed to "
             f"initialise: on_init did not succeed (state '{state.label}')"
-        )
+        ) from component.last_error  # what on_init raised, if it raised: the learner's own line
     states = list(component.export_state_interfaces())
     commands = list(component.export_command_interfaces())
     _check_exports(info, storage, states, commands)

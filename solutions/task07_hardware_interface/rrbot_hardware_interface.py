@@ -15,6 +15,9 @@ The lifecycle, as the resource manager drives it:
 * ``read``/``write`` every cycle while active (``read`` also while inactive);
 * ``prepare_command_mode_switch``/``perform_command_mode_switch`` when controllers start or stop claiming
   command interfaces.
+
+How it is checked: every state must carry the device's own value, unchanged (compared to 1e-9); the joints' motion
+through a running controller manager is compared within 0.01 rad (one cycle at the device's 0.5 rad/s).
 """
 
 from __future__ import annotations

@@ -323,3 +323,14 @@ def test_asking_for_the_unknown_state_raises() -> None:
     rm, _ = _rm()
     with pytest.raises(HardwareError, match="'unknown' is not a state"):
         rm.set_component_state("sys", State.UNKNOWN)
+
+
+def test_an_on_init_that_raises_is_the_load_errors_cause() -> None:
+    class Raising(TestSystem):
+        def on_init(self, info):  # type: ignore[no-untyped-def]
+            raise TypeError("a learner's mistake")
+
+    rm = ResourceManager(update_rate=100)
+    with pytest.raises(HardwareError) as err:
+        rm.import_component(Raising(), make_info("sys", JOINTS))
+    assert isinstance(err.value.__cause__, TypeError) and str(err.value.__cause__) == "a learner's mistake"
