@@ -237,8 +237,10 @@ def _same(what: str, got: Any, expected: Any) -> None:
         return
     if isinstance(got, (list, tuple)) and isinstance(expected, list) and sorted(map(str, got)) == sorted(expected):
         order = "sorted by name" if expected == sorted(expected) else "in update order"
-        pytest.fail(f"{what}: your answer {list(got)} has the right names but not {order}: {expected}", pytrace=False)
-    pytest.fail(f"{what}: your answer is {got!r}, expected {expected!r}", pytrace=False)
+        first = next(i for i, (a, b) in enumerate(zip(got, expected, strict=True)) if a != b)
+        pytest.fail(f"{what}: your answer has the right names but not {order}: at position {first + 1} it has "
+                    f"{got[first]!r} where {expected[first]!r} belongs", pytrace=False)
+    pytest.fail(f"{what}: your answer{_brief_difference(got, expected)}", pytrace=False)
 
 
 def _sorted_list(what: str, got: Any) -> Any:
@@ -510,6 +512,27 @@ def _chained_yaml() -> dict[str, Any]:
     return yaml.safe_load((descriptions_root() / "rrbot" / "config" / "rrbot_chained_controllers.yaml").read_text())
 
 
+_START = st.sampled_from(("not loaded", "unconfigured", "inactive", "active"))
+
+
+def _start_chain(start: tuple[str, ...]) -> tuple[System, str]:
+    """The chained RRBot with each controller of CHAIN in its start state (made consistent); and in words."""
+    wanted = dict(zip(CHAIN, start, strict=True))
+    if wanted[JTC] == "active" and (wanted[PID1] != "active" or wanted[PID2] != "active"):
+        wanted[JTC] = "inactive"  # the trajectory controller needs both PIDs active
+    if wanted[FWD] == "active" and "active" in (wanted[PID1], wanted[PID2]):
+        wanted[FWD] = "inactive"  # a joint is commanded in position or in velocity, not both (the mock refuses)
+    spawn = [n for n, s in wanted.items() if s == "active"]
+    inactive = [n for n, s in wanted.items() if s == "inactive"]
+    system = bringup(description=_chained_urdf(), controllers=copy.deepcopy(_chained_yaml()), spawn=spawn,
+                     inactive=inactive)
+    for name, state in wanted.items():
+        if state == "unconfigured":
+            system.controller_manager.load_controller(name)
+    loaded = ", ".join(f"{n} {s}" for n, s in wanted.items() if s != "not loaded") or "no controller loaded"
+    return system, f"chained RRBot ({loaded})"
+
+
 def _apply(system: System, op: str, arg: str) -> bool:
     """One step done with the library; False when the controller manager refuses it (nothing changes then)."""
     cm = system.controller_manager
@@ -603,21 +626,22 @@ def test_any_sequence_matches_the_controller_manager(answers: ModuleType) -> Non
 
     @settings(derandomize=True, database=None, deadline=None, max_examples=12,
               suppress_health_check=list(HealthCheck))
-    @given(st.lists(_STEP, min_size=1, max_size=7))
-    def scenario(steps: list[tuple[str, str]]) -> None:
+    @given(st.tuples(*[_START] * len(CHAIN)), st.lists(_STEP, max_size=5))
+    def scenario(start: tuple[str, ...], steps: list[tuple[str, str]]) -> None:
         if raised or budget[0] <= 0:
             return
         budget[0] -= 1
-        system = bringup(description=_chained_urdf(), controllers=copy.deepcopy(_chained_yaml()))
+        system, where = _start_chain(start)
         done: list[str] = []
         problem = None
         try:
+            problem = _first_difference(answers, system)
             for op, arg in steps:
+                if problem:
+                    break
                 accepted = _apply(system, op, arg)
                 done.append(f"{op} {arg}" + ("" if accepted else " (refused)"))
                 problem = _first_difference(answers, system)
-                if problem:
-                    break
         except Exception as exc:  # noqa: BLE001 - the learner's error, raised again below with its traceback
             exc.add_note(f"(on the chained RRBot, after: {', then '.join(done)})")
             raised.append(exc)
@@ -625,7 +649,8 @@ def test_any_sequence_matches_the_controller_manager(answers: ModuleType) -> Non
         finally:
             system.shutdown()
         if problem:
-            found.append(f"chained RRBot, after {', then '.join(done)}: {problem}")
+            when = f"after {', then '.join(done)}" if done else "as brought up"
+            found.append(f"{where}, {when}: {problem}")
             raise AssertionError(found[-1])
 
     try:

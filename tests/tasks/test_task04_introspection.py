@@ -120,7 +120,7 @@ def _list_difference(got: Any, want: list[str]) -> str:
 
 
 def _out_of_order(got: list[Any], want: list[str], order: str) -> str:
-    first = next(i for i, (a, b) in enumerate(zip(got, want)) if a != b)
+    first = next(i for i, (a, b) in enumerate(zip(got, want, strict=True)) if a != b)
     rule = "sorted by name" if order == "sorted" else "in the order list_controllers() gives them"
     return (f"has the right {len(want)} names but not {rule}: at position {first + 1} it has {got[first]!r} where "
             f"{want[first]!r} belongs")
@@ -630,7 +630,7 @@ _SCENARIO = st.tuples(st.sampled_from(("", "r1_")), st.booleans(), st.tuples(_ST
 
 def _start_system(prefix: str, names: dict[str, str], start: tuple[str, str, str]) -> tuple[rw.System, str]:
     """Bring up the scenario's RRBot with each controller in its start state; also say so in words."""
-    wanted = dict(zip((JSB, FORWARD, JTC), start))
+    wanted = dict(zip((JSB, FORWARD, JTC), start, strict=True))
     if wanted[FORWARD] == wanted[JTC] == "active":  # both cannot hold the joints
         wanted[JTC] = "inactive"
     spawn = [names[n] for n, s in wanted.items() if s == "active"]

@@ -46,10 +46,6 @@ WRONG = [
             entry = next(c for c in system.controller_manager.list_controllers() if c.name == controller)
             return sorted(entry.required_state_interfaces)
         """), fails={"state_interfaces_read_by", "any_sequence_matches_the_controller_manager"}),
-    Variant("state_interfaces_in_loan_order", appended("""
-        def state_interfaces_read_by(system, controller):
-            return [loan.name for loan in system.controller_manager.get_controller(controller).state_interfaces]
-        """), fails={"state_interfaces_read_by"}),
     Variant("claimable_ignores_the_hardware_state", appended("""
         def claimable_command_interfaces(system):
             rm = system.resource_manager

@@ -5,10 +5,10 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
+from grader_variants import Variant, assert_full_marks, assert_loses_points, grade_variants
 
 from rrbot_workshop.course import tracks
 from rrbot_workshop.course.grading import Rubric
-from grader_variants import Variant, assert_full_marks, assert_loses_points, grade_variants
 
 HAS_SOLUTIONS = (tracks.course_root() / "solutions").is_dir()
 pytestmark = pytest.mark.skipif(not HAS_SOLUTIONS, reason="this copy of the course has no solutions/")
