@@ -530,7 +530,7 @@ def _start_chain(start: tuple[str, ...]) -> tuple[System, str]:
         if state == "unconfigured":
             system.controller_manager.load_controller(name)
     loaded = ", ".join(f"{n} {s}" for n, s in wanted.items() if s != "not loaded") or "no controller loaded"
-    return system, f"chained RRBot ({loaded})"
+    return system, f"chained RRBot with {loaded}"
 
 
 def _apply(system: System, op: str, arg: str) -> bool:
@@ -658,6 +658,6 @@ def test_any_sequence_matches_the_controller_manager(answers: ModuleType) -> Non
     except (AssertionError, HypothesisException):
         if not found:
             raise
-        pytest.fail(f"shortest sequence found: {found[-1]}", pytrace=False)
+        pytest.fail(f"shortest case: {found[-1]}", pytrace=False)
     if raised:
         raise raised[0]

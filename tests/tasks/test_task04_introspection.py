@@ -121,9 +121,8 @@ def _list_difference(got: Any, want: list[str]) -> str:
 
 def _out_of_order(got: list[Any], want: list[str], order: str) -> str:
     first = next(i for i, (a, b) in enumerate(zip(got, want, strict=True)) if a != b)
-    rule = "sorted by name" if order == "sorted" else "in the order list_controllers() gives them"
-    return (f"has the right {len(want)} names but not {rule}: at position {first + 1} it has {got[first]!r} where "
-            f"{want[first]!r} belongs")
+    rule = "sorted by name" if order == "sorted" else "in list_controllers() order"
+    return f"has the right names, not {rule}: {got[first]!r} where {want[first]!r} belongs"
 
 
 def _same(what: str, got: Any, want: Any, order: str = "sorted") -> None:
@@ -641,7 +640,7 @@ def _start_system(prefix: str, names: dict[str, str], start: tuple[str, str, str
         if state == "unconfigured":
             system.controller_manager.load_controller(names[name])
     loaded = ", ".join(f"{names[n]} {s}" for n, s in wanted.items() if s != "not loaded") or "no controller loaded"
-    return system, f"RRBot (prefix {prefix!r}; {loaded})"
+    return system, f"RRBot{f' prefixed {prefix!r}' if prefix else ''} with {loaded}"
 
 #: The questions compared with the library's introspection after every step, with their reference.
 _QUESTIONS: dict[str, Callable[[Any], Any]] = {
@@ -761,6 +760,6 @@ def test_any_sequence_matches_the_controller_manager(answers: ModuleType) -> Non
     except (AssertionError, HypothesisException):
         if not found:
             raise
-        pytest.fail(f"shortest sequence found: {found[-1]}", pytrace=False)
+        pytest.fail(f"shortest case: {found[-1]}", pytrace=False)
     if raised:
         raise raised[0]
