@@ -678,7 +678,11 @@ def _apply(system: rw.System, op: str, arg: str) -> bool:
 
 
 def _short(value: Any) -> str:
-    return reprlib.Repr(maxlist=3, maxdict=3, maxstring=40, maxother=40).repr(value)
+    """``repr`` of a value, long lists and strings abridged."""
+    shortener = reprlib.Repr()
+    shortener.maxlist = shortener.maxdict = 3
+    shortener.maxstring = shortener.maxother = 40
+    return shortener.repr(value)
 
 
 def _brief_difference(got: Any, want: Any) -> str:
