@@ -487,7 +487,7 @@ def test_hardware_states(answers: ModuleType, two_rrbots_urdf: str) -> None:
 # --------------------------------------------------------------------------------------------- generated sequences
 
 #: Scenarios run at most by a generated check, generation and shrinking together (keeps grading fast).
-SCENARIO_BUDGET = 30
+SCENARIO_BUDGET = 50
 
 CHAIN = (JSB, PID1, PID2, JTC, FWD)
 _STEP = st.one_of(
@@ -622,7 +622,8 @@ def _brief_difference(got: Any, want: Any) -> str:
         if keys:
             return f" has {'no key' if keys[0] not in got else 'the unexpected key'} {keys[0]!r}"
     if isinstance(got, list) and isinstance(want, list) and sorted(map(str, got)) == sorted(want) and got:
-        return f" gave the right names in the wrong order ({_short(got)}; expected {_short(want)})"
+        first = next(i for i, (a, b) in enumerate(zip(got, want, strict=True)) if a != b)
+        return f" has the right names in the wrong order: {got[first]!r} where {want[first]!r} belongs"
     if isinstance(got, list) and isinstance(want, list) and len(got) + len(want) > 6:
         missing, extra = [n for n in want if n not in got], [n for n in got if n not in want]
         return f" misses {_short(missing)} and has {_short(extra)} it should not"
