@@ -24,7 +24,7 @@ from typing import Any
 
 import pytest
 import yaml
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 from hypothesis.errors import HypothesisException
 
@@ -607,7 +607,7 @@ def _required_if_active(system: System, controller: str) -> list[str]:
 def _short(value: Any) -> str:
     """``repr`` of a value, long lists and strings abridged."""
     shortener = reprlib.Repr()
-    shortener.maxlist = shortener.maxdict = 3
+    shortener.maxlist = shortener.maxdict = 2
     shortener.maxstring = shortener.maxother = 40
     return shortener.repr(value)
 
@@ -624,9 +624,11 @@ def _brief_difference(got: Any, want: Any) -> str:
     if isinstance(got, list) and isinstance(want, list) and sorted(map(str, got)) == sorted(want) and got:
         first = next(i for i, (a, b) in enumerate(zip(got, want, strict=True)) if a != b)
         return f" has the right names in the wrong order: {got[first]!r} where {want[first]!r} belongs"
-    if isinstance(got, list) and isinstance(want, list) and len(got) + len(want) > 6:
+    if isinstance(got, list) and isinstance(want, list) and len(got) + len(want) > 4:
         missing, extra = [n for n in want if n not in got], [n for n in got if n not in want]
-        return f" misses {_short(missing)} and has {_short(extra)} it should not"
+        parts = [f"misses {len(missing)} name(s) such as {missing[0]!r}"] if missing else []
+        parts += [f"has {len(extra)} name(s) it should not, such as {extra[0]!r}"] if extra else []
+        return " " + " and ".join(parts or [f"gave {len(got)} names where {len(want)} were expected"])
     return f" gave {_short(got)}, expected {_short(want)}"
 
 
@@ -649,6 +651,7 @@ def test_any_sequence_matches_the_controller_manager(answers: ModuleType) -> Non
     @settings(derandomize=True, database=None, deadline=None, max_examples=12,
               suppress_health_check=list(HealthCheck))
     @given(st.tuples(*[_START] * len(CHAIN)), st.lists(_STEP, max_size=5))
+    @example(("not loaded",) * len(CHAIN), [])  # the simplest case first: nothing loaded, nothing done
     def scenario(start: tuple[str, ...], steps: list[tuple[str, str]]) -> None:
         if raised or budget[0] <= 0:
             return
@@ -672,7 +675,7 @@ def test_any_sequence_matches_the_controller_manager(answers: ModuleType) -> Non
             system.shutdown()
         if problem:
             when = f"after {', then '.join(done)}" if done else "as brought up"
-            found.append(f"{where}, {when}: {problem}")
+            found.append(f"{problem}, {when}, on the {where}")
             raise AssertionError(found[-1])
 
     try:
@@ -680,6 +683,6 @@ def test_any_sequence_matches_the_controller_manager(answers: ModuleType) -> Non
     except (AssertionError, HypothesisException):
         if not found:
             raise
-        pytest.fail(f"shortest case: {found[-1]}", pytrace=False)
+        pytest.fail(f"in the shortest case found, {found[-1]}", pytrace=False)
     if raised:
         raise raised[0]

@@ -40,7 +40,7 @@ from typing import Any
 
 import pytest
 import yaml
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 from hypothesis.errors import HypothesisException
 
@@ -731,6 +731,7 @@ def test_any_sequence_matches_the_controller_manager(answers: ModuleType) -> Non
     @settings(derandomize=True, database=None, deadline=None, max_examples=12,
               suppress_health_check=list(HealthCheck))
     @given(_SCENARIO)
+    @example(("", False, ("not loaded",) * 3, []))  # the simplest case first: nothing loaded, nothing done
     def scenario(case: tuple[str, bool, tuple[str, str, str], list[tuple[str, str]]]) -> None:
         if raised or budget[0] <= 0:
             return
@@ -756,7 +757,7 @@ def test_any_sequence_matches_the_controller_manager(answers: ModuleType) -> Non
             system.shutdown()
         if problem:
             when = f"after {', then '.join(done)}" if done else "as brought up"
-            found.append(f"{where}, {when}: {problem}")
+            found.append(f"{problem}, {when}, on the {where}")
             raise AssertionError(found[-1])
 
     try:
@@ -764,6 +765,6 @@ def test_any_sequence_matches_the_controller_manager(answers: ModuleType) -> Non
     except (AssertionError, HypothesisException):
         if not found:
             raise
-        pytest.fail(f"shortest case: {found[-1]}", pytrace=False)
+        pytest.fail(f"in the shortest case found, {found[-1]}", pytrace=False)
     if raised:
         raise raised[0]
