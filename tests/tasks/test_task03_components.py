@@ -651,7 +651,9 @@ def test_any_sequence_matches_the_controller_manager(answers: ModuleType) -> Non
     @settings(derandomize=True, database=None, deadline=None, max_examples=12,
               suppress_health_check=list(HealthCheck))
     @given(st.tuples(*[_START] * len(CHAIN)), st.lists(_STEP, max_size=5))
-    @example(("not loaded",) * len(CHAIN), [])  # the simplest case first: nothing loaded, nothing done
+    @example(("not loaded",) * len(CHAIN), [])  # the simplest cases first: nothing loaded, nothing done ...
+    @example(("not loaded",) * len(CHAIN), [("hardware", "inactive")])  # ... then the hardware leaves active
+    @example(("not loaded",) * len(CHAIN), [("hardware", "unconfigured")])
     def scenario(start: tuple[str, ...], steps: list[tuple[str, str]]) -> None:
         if raised or budget[0] <= 0:
             return

@@ -731,7 +731,8 @@ def test_any_sequence_matches_the_controller_manager(answers: ModuleType) -> Non
     @settings(derandomize=True, database=None, deadline=None, max_examples=12,
               suppress_health_check=list(HealthCheck))
     @given(_SCENARIO)
-    @example(("", False, ("not loaded",) * 3, []))  # the simplest case first: nothing loaded, nothing done
+    @example(("", False, ("not loaded",) * 3, []))  # the simplest cases first: nothing loaded, nothing done ...
+    @example(("", False, ("not loaded",) * 3, [("hardware", "unconfigured")]))  # ... then the hardware leaves active
     def scenario(case: tuple[str, bool, tuple[str, str, str], list[tuple[str, str]]]) -> None:
         if raised or budget[0] <= 0:
             return
