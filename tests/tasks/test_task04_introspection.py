@@ -713,6 +713,16 @@ def _mismatch(answers: ModuleType, system: rw.System) -> str | None:
     return None
 
 
+def _case(problem: str, when: str, where: str, done: list[str]) -> str:
+    """The failing case in one sentence, the answer that differs first; details dropped when too long to read."""
+    text = f"{problem}, {when}, on the {where}"
+    if len(text) > 250:
+        text = f"{problem}, {when}, on the %s" % where.split(" with ")[0]
+    if len(text) > 250 and len(done) > 1:
+        text = f"{problem}, after {len(done)} steps ending with {done[-1]!r}, on the %s" % where.split(" with ")[0]
+    return text
+
+
 @graded(points=3, hint=(
     "Tasks 4.1-4.4 and 4.7 after any sequence of load, configure, activate, deactivate, cleanup, unload and hardware "
     "state changes: each answer must be what list_controllers(), list_hardware_components() and "
@@ -758,7 +768,7 @@ def test_any_sequence_matches_the_controller_manager(answers: ModuleType) -> Non
             system.shutdown()
         if problem:
             when = f"after {', then '.join(done)}" if done else "as brought up"
-            found.append(f"{problem}, {when}, on the {where}")
+            found.append(_case(problem, when, where, done))
             raise AssertionError(found[-1])
 
     try:
