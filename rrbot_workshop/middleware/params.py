@@ -13,6 +13,7 @@ its :class:`ControllersConfig` and :func:`load_controllers_yaml` are importable 
 from __future__ import annotations
 
 import copy
+import functools
 import logging
 import math
 from collections.abc import Callable, Mapping
@@ -116,6 +117,16 @@ class _Decl:
     description: str
 
 
+@functools.lru_cache(maxsize=128)
+def _parsed_once(text: str) -> Any:
+    return yaml.safe_load(text)
+
+
+def _parsed(text: str) -> Any:
+    """A schema's YAML, parsed once per text (every load of a controller type declares the same schema)."""
+    return copy.deepcopy(_parsed_once(text))
+
+
 class ParameterSchema:
     """Declared parameters of one controller type, in generate_parameter_library's YAML syntax.
 
@@ -124,7 +135,7 @@ class ParameterSchema:
     """
 
     def __init__(self, definition: str | Mapping[str, Any]) -> None:
-        data = yaml.safe_load(definition) if isinstance(definition, str) else definition
+        data = _parsed(definition) if isinstance(definition, str) else definition
         if not isinstance(data, Mapping) or len(data) != 1:
             raise ParameterError("schema", "<root>", "must be a mapping with exactly one namespace key")
         self.namespace: str = str(next(iter(data)))

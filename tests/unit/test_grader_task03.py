@@ -1,57 +1,73 @@
-"""Task 3's grader fails wrong answers: each mutation of the solution fails the checks it should, and only those.
+"""Task 3's grader: wrong answers written as learners would lose points; correct ones written differently do not.
 
-A mutation appends a wrong definition of one answer to a copy of ``solutions/task03_components/answers.py``
-(the later ``def`` wins), then grades the copy in a subprocess, as ``rrbot-workshop grade 3`` would.
+A wrong or alternative answer is appended to a copy of ``solutions/task03_components/answers.py`` (the later ``def``
+wins) and the copy is graded in a subprocess, as ``rrbot-workshop grade 3`` would.
 """
 
 from __future__ import annotations
 
-import shutil
 import textwrap
 from pathlib import Path
 
 import pytest
+from grader_variants import Variant, assert_full_marks, assert_loses_points, grade_variants
 
 from rrbot_workshop.course import tracks
-from rrbot_workshop.course.grading import Rubric, grade
+from rrbot_workshop.course.grading import Rubric
 
 HAS_SOLUTIONS = (tracks.course_root() / "solutions").is_dir()
 pytestmark = pytest.mark.skipif(not HAS_SOLUTIONS, reason="this copy of the course has no solutions/")
 
-MUTATIONS = {
-    "update_order_lists_controllers_in_any_state": (
-        """
+FILE = "answers.py"
+SOLUTION = (tracks.task_dir(3, "solutions") / FILE).read_text() if HAS_SOLUTIONS else ""
+
+
+def appended(code: str) -> dict[str, str]:
+    """The solution with ``code`` appended: its later definitions replace the solution's."""
+    return {FILE: SOLUTION + "\n\n" + textwrap.dedent(code)}
+
+
+WRONG = [
+    Variant("update_order_lists_controllers_in_any_state", appended("""
         def update_order(system):
             return [c.name for c in system.controller_manager.list_controllers()]
-        """,
-        {"update_order"},
-    ),
-    "update_order_in_load_order": (
-        """
+        """), fails={"update_order", "any_sequence_matches_the_controller_manager"}),
+    Variant("update_order_in_load_order", appended("""
         def update_order(system):
             cm = system.controller_manager
             return [name for name, spec in cm.controllers.items() if spec.state.label == "active"]
-        """,
-        {"update_order"},
-    ),
-    "inactive_controller_reads_its_required_state_interfaces": (
-        """
+        """), fails={"update_order"}),
+    Variant("update_order_sorted_by_name", appended("""
+        def update_order(system):
+            return sorted(c.name for c in system.controller_manager.list_controllers() if c.state == "active")
+        """), fails={"update_order"}),
+    Variant("inactive_controller_reads_its_required_state_interfaces", appended("""
         def state_interfaces_read_by(system, controller):
             entry = next(c for c in system.controller_manager.list_controllers() if c.name == controller)
             return sorted(entry.required_state_interfaces)
-        """,
-        {"state_interfaces_read_by"},
-    ),
-    "claimable_ignores_the_hardware_state": (
-        """
+        """), fails={"state_interfaces_read_by", "any_sequence_matches_the_controller_manager"}),
+    Variant("claimable_ignores_the_hardware_state", appended("""
         def claimable_command_interfaces(system):
             rm = system.resource_manager
             return [n for n in rm.available_command_interfaces() if not rm.command_interface_is_claimed(n)]
-        """,
-        {"claimable_command_interfaces"},
-    ),
-    "hard_coded_answers_of_one_system": (
-        """
+        """), fails={"claimable_command_interfaces"}),
+    Variant("claimable_ignores_availability", appended("""
+        def claimable_command_interfaces(system):
+            states = hardware_states(system)
+            out = []
+            for itf in system.controller_manager.list_hardware_interfaces().command_interfaces:
+                owner = owner_of_interface(system, itf.name)
+                if not itf.is_claimed and (owner is None or states[owner] == "active"):
+                    out.append(itf.name)
+            return sorted(out)
+        """), fails={"claimable_command_interfaces"}),
+    Variant("claimable_keeps_claimed_interfaces", appended("""
+        def claimable_command_interfaces(system):
+            states = hardware_states(system)
+            return [n for n in available_interfaces(system)["command"]
+                    if owner_of_interface(system, n) is None or states[owner_of_interface(system, n)] == "active"]
+        """), fails={"claimable_command_interfaces"}),
+    Variant("hard_coded_answers_of_one_system", appended("""
         def loop_rate(system):
             return 100
 
@@ -60,74 +76,150 @@ MUTATIONS = {
 
         def reference_interfaces_of(system, controller):
             return []
-        """,
-        # the solution's claimable_command_interfaces asks owner_of_interface, so it fails along with it
-        {"loop_rate", "owner_of_interface", "reference_interfaces_of", "claimable_command_interfaces"},
-    ),
-    "every_controller_runs_at_the_managers_rate": (
-        """
+        """), fails={"loop_rate", "owner_of_interface", "reference_interfaces_of"}),
+    Variant("every_controller_runs_at_the_managers_rate", appended("""
         def controller_update_rates(system):
             rate = system.controller_manager.get_update_rate()
             return {c.name: rate for c in system.controller_manager.list_controllers()}
-        """,
-        {"controller_update_rates"},
-    ),
-    "unclaimed_interface_answers_an_empty_name": (
-        """
+        """), fails={"controller_update_rates"}),
+    Variant("controller_rates_of_active_controllers_only", appended("""
+        def controller_update_rates(system):
+            return {c.name: c.update_rate for c in system.controller_manager.list_controllers() if c.state == "active"}
+        """), fails={"controller_update_rates"}),
+    Variant("unclaimed_interface_answers_an_empty_name", appended("""
         def claimant_of(system, interface):
             return system.resource_manager.command_interface_holder(interface) or ""
-        """,
-        {"claimant_of"},
-    ),
-    "reference_interfaces_without_the_controller_prefix": (
-        """
+        """), fails={"claimant_of", "any_sequence_matches_the_controller_manager"}),
+    Variant("reference_interfaces_without_the_controller_prefix", appended("""
         def reference_interfaces_of(system, controller):
             names = system.resource_manager.get_controller_reference_interface_names(controller)
             return sorted(n.split("/", 1)[1] for n in names)
-        """,
-        {"reference_interfaces_of"},
-    ),
-    "available_means_every_interface": (
-        """
+        """), fails={"reference_interfaces_of"}),
+    Variant("available_means_every_interface", appended("""
         def available_interfaces(system):
             listing = system.controller_manager.list_hardware_interfaces()
-            return {"state": [i.name for i in listing.state_interfaces],
-                    "command": [i.name for i in listing.command_interfaces]}
-        """,
-        # the solution's claimable_command_interfaces asks available_interfaces, so it fails along with it
-        {"available_interfaces", "claimable_command_interfaces"},
-    ),
-    "every_component_assumed_active": (
-        """
+            return {"state": sorted(i.name for i in listing.state_interfaces),
+                    "command": sorted(i.name for i in listing.command_interfaces)}
+        """), fails={"available_interfaces"}),
+    Variant("every_component_assumed_active", appended("""
         def hardware_states(system):
             return {c.name: "active" for c in system.controller_manager.list_hardware_components()}
-        """,
-        # the solution's claimable_command_interfaces asks hardware_states, so it fails along with it
-        {"hardware_states", "claimable_command_interfaces"},
-    ),
-    "owner_of_an_exported_interface_is_the_controller": (
-        """
+        """), fails={"hardware_states"}),
+    Variant("hardware_state_object_not_its_label", appended("""
+        def hardware_states(system):
+            return {c.name: c.state for c in system.controller_manager.list_hardware_components()}
+        """), fails={"hardware_states"}),
+    Variant("owner_of_an_exported_interface_is_the_controller", appended("""
         def owner_of_interface(system, interface):
             rm = system.resource_manager
             return rm.hardware_of_interface(interface) or rm.controller_of_interface(interface)
-        """,
-        {"owner_of_interface"},
-    ),
-}
+        """), fails={"owner_of_interface"}),
+    Variant("hardware_states_remembered_from_the_first_call", appended("""
+        _FIRST = {}
+
+        def hardware_states(system):
+            if id(system) not in _FIRST:
+                _FIRST[id(system)] = {c.name: c.state.label for c in system.controller_manager.list_hardware_components()}
+            return dict(_FIRST[id(system)])
+        """), fails={"hardware_states"}),
+]
+
+RIGHT = [
+    Variant("only_the_introspection_lists", appended("""
+        def claimant_of(system, interface):
+            for entry in system.controller_manager.list_controllers():
+                if interface in entry.claimed_interfaces:
+                    return entry.name
+            return None
 
 
-def _failed(rubric: Rubric) -> set[str]:
-    return {c.name for c in rubric.checks if not c.passed}
+        def state_interfaces_read_by(system, controller):
+            for entry in system.controller_manager.list_controllers():
+                if entry.name == controller:
+                    return sorted(entry.required_state_interfaces) if entry.state == "active" else []
+            return []
 
 
-@pytest.mark.parametrize("mutation", list(MUTATIONS))
-def test_mutated_answer_fails_its_check(mutation: str, tmp_path: Path) -> None:
-    """The mutated solution loses exactly the checks of the answers it breaks."""
-    code, expected = MUTATIONS[mutation]
-    source = tracks.task_dir(3, "solutions")
-    copy = tmp_path / source.name
-    shutil.copytree(source, copy, ignore=shutil.ignore_patterns("__pycache__"))
-    answers = copy / "answers.py"
-    answers.write_text(answers.read_text() + "\n" + textwrap.dedent(code))
-    rubric = grade(3, task_root=tmp_path)
-    assert _failed(rubric) == expected, rubric.format()
+        def reference_interfaces_of(system, controller):
+            entry = [c for c in system.controller_manager.list_controllers() if c.name == controller][0]
+            return sorted(controller + "/" + ref for ref in entry.reference_interfaces)
+
+
+        def owner_of_interface(system, interface):
+            for comp in system.controller_manager.list_hardware_components():
+                names = {i.name for i in comp.command_interfaces} | {i.name for i in comp.state_interfaces}
+                if interface in names:
+                    return comp.name
+            return None
+
+
+        def available_interfaces(system):
+            listing = system.controller_manager.list_hardware_interfaces()
+            state = [i.name for i in listing.state_interfaces if i.is_available]
+            command = [i.name for i in listing.command_interfaces if i.is_available]
+            state.sort()
+            command.sort()
+            return dict(command=command, state=state)
+        """)),
+    Variant("sets_and_a_filter", appended("""
+        def claimable_command_interfaces(system):
+            listing = system.controller_manager.list_hardware_interfaces()
+            active = {c.name for c in system.controller_manager.list_hardware_components()
+                      if c.state.label == "active"}
+
+            def usable(itf):
+                owner = owner_of_interface(system, itf.name)
+                return itf.is_available and not itf.is_claimed and (owner is None or owner in active)
+
+            return sorted({itf.name for itf in filter(usable, listing.command_interfaces)})
+
+
+        def update_order(system):
+            order = []
+            for c in system.controller_manager.list_controllers():
+                if c.state != "active":
+                    continue
+                order.append(c.name)
+            return order
+        """)),
+    Variant("loops_tuples_and_str_labels", appended("""
+        def hardware_states(system):
+            out = {}
+            for comp in system.controller_manager.list_hardware_components():
+                out[comp.name] = str(comp.state.label)
+            return out
+
+
+        def controller_update_rates(system):
+            return dict((c.name, int(c.update_rate)) for c in system.controller_manager.list_controllers())
+
+
+        def loop_rate(system):
+            return int(system.controller_manager.get_update_rate())
+
+
+        def state_interfaces_read_by(system, controller):
+            loans = system.controller_manager.get_controller(controller).state_interfaces
+            return sorted({loan.name for loan in loans})
+        """)),
+]
+
+
+@pytest.fixture(scope="module")
+def rubrics(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Rubric]:
+    return grade_variants(3, WRONG + RIGHT, Path(tmp_path_factory.mktemp("task03")))
+
+
+@pytest.mark.parametrize("variant", WRONG, ids=str)
+def test_wrong_solution_loses_points(rubrics: dict[str, Rubric], variant: Variant) -> None:
+    assert_loses_points(rubrics[variant.name], variant)
+
+
+@pytest.mark.parametrize("variant", RIGHT, ids=str)
+def test_alternative_solution_gets_full_marks(rubrics: dict[str, Rubric], variant: Variant) -> None:
+    assert_full_marks(rubrics[variant.name])
+
+
+def test_enough_variants() -> None:
+    """The issue asks for at least 12 wrong and 3 alternative solutions per task."""
+    assert len(WRONG) >= 12 and len(RIGHT) >= 3

@@ -1,162 +1,220 @@
-"""The task-4 grader fails wrong answers: each test grades a copy of the solution with one deliberate mistake.
-
-Full marks on ``solutions/`` and less on the untouched ``exercises/`` are checked for every task in
-``test_graders.py``; these mutations show that each check catches the mistake it is about.
-"""
+"""Task 4's grader: wrong solutions written as learners would lose points; correct ones written differently do not."""
 
 from __future__ import annotations
 
-import shutil
+import textwrap
 from pathlib import Path
 
 import pytest
+from grader_variants import Variant, assert_full_marks, assert_loses_points, grade_variants
 
 from rrbot_workshop.course import tracks
-from rrbot_workshop.course.grading import Rubric, grade
+from rrbot_workshop.course.grading import Rubric
 
 HAS_SOLUTIONS = (tracks.course_root() / "solutions").is_dir()
 pytestmark = pytest.mark.skipif(not HAS_SOLUTIONS, reason="this copy of the course has no solutions/")
 
-
-def _mutated(tmp_path: Path, old: str, new: str) -> Path:
-    """A copy of the task-4 solution with ``old`` replaced by ``new`` once; returns the folder to grade."""
-    source = tracks.task_dir(4, "solutions")
-    copy = tmp_path / source.name
-    shutil.copytree(source, copy, ignore=shutil.ignore_patterns("__pycache__"))
-    path = copy / "introspection.py"
-    text = path.read_text()
-    assert text.count(old) == 1, f"mutation {old!r} does not apply exactly once to {path}"
-    path.write_text(text.replace(old, new))
-    return tmp_path
+FILE = "introspection.py"
+SOLUTION = (tracks.task_dir(4, "solutions") / FILE).read_text() if HAS_SOLUTIONS else ""
 
 
-def _failed(rubric: Rubric) -> set[str]:
-    return {c.name for c in rubric.checks if not c.passed}
+def appended(code: str) -> str:
+    """The solution with ``code`` appended: its later definitions replace the solution's."""
+    return SOLUTION + "\n\n" + textwrap.dedent(code)
 
 
-def test_controllers_in_the_wrong_state_fail_the_state_check(tmp_path: Path) -> None:
-    """An answer that reports inactive controllers as active loses the controller_states points."""
-    root = _mutated(
-        tmp_path,
+STRICT_SWITCH = 'cm.switch_controllers(activate=[activate], deactivate=[deactivate], strictness="strict")'
+CONFLICT_SWITCH = '        cm.switch_controllers(activate=inactive, strictness="strict")\n'
+
+WRONG = [
+    Variant("loaded_means_active", {FILE: [("return [entry.name for entry in cm.list_controllers()]",
+                                            'return [e.name for e in cm.list_controllers() if e.state == "active"]')]},
+            fails={"loaded_controllers", "any_sequence_matches_the_controller_manager"}),
+    Variant("loaded_sorted_by_name", {FILE: [("return [entry.name for entry in cm.list_controllers()]",
+                                              "return sorted(entry.name for entry in cm.list_controllers())")]},
+            fails={"loaded_controllers"}),
+    Variant("loaded_typed_in_for_the_workshop", {FILE: [(
+        "return [entry.name for entry in cm.list_controllers()]",
+        'return ["joint_state_broadcaster", "forward_position_controller", "joint_trajectory_controller"]')]},
+            fails={"loaded_controllers", "any_sequence_matches_the_controller_manager"}),
+    Variant("inactive_reported_as_active", {FILE: [(
         "return {entry.name: entry.state for entry in cm.list_controllers()}",
-        'return {entry.name: "active" if entry.state == "inactive" else entry.state for entry in cm.list_controllers()}',
-    )
-    rubric = grade(4, task_root=root)
-    # switch_between returns the states and activate_all_at_once looks for the inactive ones: both go wrong too
-    assert _failed(rubric) == {
-        "controller_states", "switch_between", "conflict_names", "conflict_leaves_system_unchanged"
-    }, rubric.format()
-
-
-def test_hardware_state_object_instead_of_label_fails_only_the_hardware_check(tmp_path: Path) -> None:
-    root = _mutated(
-        tmp_path,
-        "{component.name: component.state.label for",
-        "{component.name: component.state for",
-    )
-    rubric = grade(4, task_root=root)
-    assert _failed(rubric) == {"hardware_component_states"}, rubric.format()
-
-
-def test_two_step_switch_fails_only_the_one_step_check(tmp_path: Path) -> None:
-    """Deactivating first and activating in a second call reaches the right states but is not one switch."""
-    root = _mutated(
-        tmp_path,
-        'cm.switch_controllers(activate=[activate], deactivate=[deactivate], strictness="strict")',
+        'return {e.name: "active" if e.state == "inactive" else e.state for e in cm.list_controllers()}')]},
+            fails={"controller_states", "switch_between", "any_sequence_matches_the_controller_manager"}),
+    Variant("hardware_state_object_not_its_label", {FILE: [("{component.name: component.state.label for",
+                                                            "{component.name: component.state for")]},
+            fails={"hardware_component_states", "any_sequence_matches_the_controller_manager"}),
+    Variant("available_means_free", {FILE: [(
+        '"command": sorted(i.name for i in interfaces.command_interfaces if i.is_available)',
+        '"command": sorted(i.name for i in interfaces.command_interfaces if i.is_available and not i.is_claimed)')]},
+            fails={"available_interfaces", "any_sequence_matches_the_controller_manager"}),
+    Variant("unavailable_interfaces_listed", {FILE: [(
+        '"state": sorted(i.name for i in interfaces.state_interfaces if i.is_available)',
+        '"state": sorted(i.name for i in interfaces.state_interfaces)')]},
+            fails={"available_interfaces", "any_sequence_matches_the_controller_manager"}),
+    Variant("claimed_means_required_by_any_controller", {FILE: [(
+        '"claimed": sorted(i.name for i in interfaces.command_interfaces if i.is_claimed)',
+        '"claimed": sorted({n for c in cm.list_controllers() for n in c.required_command_interfaces})')]},
+            fails={"available_interfaces"}),
+    Variant("controller_manager_argument_not_accepted", {FILE: [(
+        'return getattr(target, "controller_manager", target)', "return target.controller_manager")]},
+            fails={"loaded_controllers", "controller_states"}),
+    Variant("switch_in_two_calls", {FILE: [(STRICT_SWITCH, (
         'cm.switch_controllers(deactivate=[deactivate], strictness="strict")\n'
-        '    cm.switch_controllers(activate=[activate], strictness="strict")',
-    )
-    rubric = grade(4, task_root=root)
-    assert _failed(rubric) == {"switch_is_one_step"}, rubric.format()
-
-
-def test_activating_one_by_one_fails_the_unchanged_check(tmp_path: Path) -> None:
-    """Trying each inactive controller in its own switch activates the first one: the names are right but the
-    system changed."""
-    root = _mutated(
-        tmp_path,
-        '    try:\n        cm.switch_controllers(activate=inactive, strictness="strict")\n'
-        "    except SwitchError as error:\n",
+        '    cm.switch_controllers(activate=[activate], strictness="strict")'))]},
+            fails={"switch_is_one_strict_step"}),
+    Variant("switch_best_effort", {FILE: [(STRICT_SWITCH, STRICT_SWITCH.replace(', strictness="strict"', ""))]},
+            fails={"switch_is_one_strict_step"}),
+    Variant("switch_without_loading_first", {FILE: [(
+        "    if activate not in cm.controllers:\n        cm.load_controller(activate)\n"
+        '    if controller_states(cm)[activate] == "unconfigured":\n        cm.configure_controller(activate)\n', "")]},
+            fails={"switch_between"}),
+    Variant("switch_loads_but_never_configures", {FILE: [(
+        '    if controller_states(cm)[activate] == "unconfigured":\n        cm.configure_controller(activate)\n', "")]},
+            fails={"switch_between"}),
+    Variant("switch_rejection_swallowed", {FILE: [("    " + STRICT_SWITCH + "\n", (
+        "    try:\n        " + STRICT_SWITCH + "\n    except SwitchError:\n        pass\n"))]},
+            fails={"rejected_switch_raises_and_changes_nothing"}),
+    Variant("conflict_tried_one_by_one", {FILE: [(
+        "    try:\n" + CONFLICT_SWITCH + "    except SwitchError as error:\n",
         "    interfaces: list[str] = []\n    controllers: list[str] = []\n    for name in inactive:\n        try:\n"
         "            cm.switch_controllers(activate=[name])\n"
         "        except SwitchError as error:\n            interfaces += error.interfaces\n"
         "            controllers += error.controllers\n"
-        "    if interfaces:\n        error = SwitchError([], interfaces=interfaces, controllers=controllers)\n",
-    )
-    rubric = grade(4, task_root=root)
-    assert _failed(rubric) == {"conflict_leaves_system_unchanged"}, rubric.format()
+        "    if interfaces:\n        error = SwitchError([], interfaces=interfaces, controllers=controllers)\n")]},
+            fails={"conflict_leaves_system_unchanged"}),
+    Variant("conflict_names_as_the_error_orders_them", {FILE: [(
+        'return {"interfaces": sorted(error.interfaces), "controllers": sorted(error.controllers)}',
+        'return {"interfaces": list(error.interfaces), "controllers": list(error.controllers)}')]},
+            fails={"conflict_names"}),
+    Variant("conflict_names_every_loaded_controller", {FILE: [(
+        '"controllers": sorted(error.controllers)}', '"controllers": sorted(loaded_controllers(cm))}')]},
+            fails={"conflict_names"}),
+    Variant("conflict_switch_best_effort", {FILE: [(CONFLICT_SWITCH, CONFLICT_SWITCH.replace(
+        ', strictness="strict"', ""))]},
+            fails={"conflict_leaves_system_unchanged"}),
+    Variant("no_conflict_answers_none", {FILE: [('    return {"interfaces": [], "controllers": []}\n',
+                                                 "    return None\n")]},
+            fails={"switch_that_goes_through"}),
+    Variant("in_use_lists_required_not_claimed", {FILE: [(
+        '"command": sorted(entry.claimed_interfaces)', '"command": sorted(entry.required_command_interfaces)')]},
+            fails={"interfaces_in_use", "any_sequence_matches_the_controller_manager"}),
+    Variant("in_use_reads_state_while_inactive", {FILE: [(
+        '"state": sorted(entry.required_state_interfaces) if active else []',
+        '"state": sorted(entry.required_state_interfaces)')]},
+            fails={"interfaces_in_use", "any_sequence_matches_the_controller_manager"}),
+    Variant("in_use_not_sorted", {FILE: [(
+        '"state": sorted(entry.required_state_interfaces) if active else []',
+        '"state": list(reversed(entry.required_state_interfaces)) if active else []')]},
+            fails={"interfaces_in_use"}),
+    Variant("hardware_states_cached_at_first_call", {FILE: appended('''
+        _SEEN = {}
 
 
-def test_required_instead_of_claimed_interfaces_fails_the_usage_check(tmp_path: Path) -> None:
-    """An inactive controller's required interfaces are not in use: listing them fails interfaces_in_use."""
-    root = _mutated(tmp_path, '"command": sorted(entry.claimed_interfaces)', '"command": sorted(entry.required_command_interfaces)')
-    rubric = grade(4, task_root=root)
-    assert _failed(rubric) == {"interfaces_in_use"}, rubric.format()
+        def hardware_component_states(target):
+            cm = controller_manager_of(target)
+            if id(cm) not in _SEEN:
+                _SEEN[id(cm)] = {c.name: c.state.label for c in cm.list_hardware_components()}
+            return dict(_SEEN[id(cm)])
+        ''')},
+            fails={"any_sequence_matches_the_controller_manager"}),
+]
 
-
-def test_hard_coded_workshop_answers_fail(tmp_path: Path) -> None:
-    """Answers typed in for the workshop's RRBot fail on the other systems the grader brings up."""
-    root = _mutated(
-        tmp_path,
-        "    cm = controller_manager_of(target)\n    return [entry.name for entry in cm.list_controllers()]\n",
-        '    return ["joint_state_broadcaster", "forward_position_controller", "joint_trajectory_controller"]\n',
-    )
-    rubric = grade(4, task_root=root)
-    assert "loaded_controllers" in _failed(rubric), rubric.format()
-
-
-def _appended(tmp_path: Path, code: str) -> Path:
-    """A copy of the solution with a wrong definition appended (the later ``def`` wins)."""
-    import textwrap
-
-    source = tracks.task_dir(4, "solutions")
-    copy = tmp_path / source.name
-    shutil.copytree(source, copy, ignore=shutil.ignore_patterns("__pycache__"))
-    path = copy / "introspection.py"
-    path.write_text(path.read_text() + "\n" + textwrap.dedent(code))
-    return tmp_path
-
-
-def test_only_active_controllers_counted_as_loaded(tmp_path: Path) -> None:
-    root = _appended(tmp_path, """
+RIGHT = [
+    Variant("loops_and_the_service_constant", {FILE: appended('''
         def loaded_controllers(target):
-            return [c.name for c in controller_manager_of(target).list_controllers() if c.state == "active"]
-        """)
-    assert "loaded_controllers" in _failed(grade(4, task_root=root))
+            names = []
+            for entry in controller_manager_of(target).list_controllers():
+                names.append(entry.name)
+            return names
 
 
-def test_available_interfaces_including_unavailable_ones(tmp_path: Path) -> None:
-    root = _appended(tmp_path, """
         def available_interfaces(target):
             listing = controller_manager_of(target).list_hardware_interfaces()
-            return {"command": sorted(i.name for i in listing.command_interfaces),
-                    "state": sorted(i.name for i in listing.state_interfaces),
-                    "claimed": sorted(i.name for i in listing.command_interfaces if i.is_claimed)}
-        """)
-    assert "available_interfaces" in _failed(grade(4, task_root=root))
+            command, state, claimed = [], [], []
+            for itf in listing.command_interfaces:
+                if itf.is_available:
+                    command.append(itf.name)
+                if itf.is_claimed:
+                    claimed.append(itf.name)
+            for itf in listing.state_interfaces:
+                if itf.is_available:
+                    state.append(itf.name)
+            command.sort(); state.sort(); claimed.sort()
+            return {"state": state, "claimed": claimed, "command": command}
 
 
-def test_switch_without_loading_the_new_controller(tmp_path: Path) -> None:
-    """Asking the switch for a controller that is declared but not loaded: the task says to load it first."""
-    root = _appended(tmp_path, """
         def switch_between(target, deactivate, activate):
             cm = controller_manager_of(target)
-            cm.switch_controllers(activate=[activate], deactivate=[deactivate], strictness="strict")
-            return controller_states(cm)
-        """)
-    assert "switch_between" in _failed(grade(4, task_root=root))
-
-
-def test_conflict_answer_with_every_loaded_controller(tmp_path: Path) -> None:
-    """Naming every controller instead of the two the rejection is about."""
-    root = _appended(tmp_path, """
+            loaded = {e.name: e.state for e in cm.list_controllers()}
+            if activate not in loaded:
+                cm.load_controller(activate)
+                cm.configure_controller(activate)
+            elif loaded[activate] == "unconfigured":
+                cm.configure_controller(activate)
+            cm.switch_controllers(deactivate=[deactivate], activate=[activate], strictness=2)  # STRICT
+            return controller_states(target)
+        ''')}),
+    Variant("sets_and_tuples_then_sorted", {FILE: appended('''
         def activate_all_at_once(target):
             cm = controller_manager_of(target)
-            inactive = [n for n, s in controller_states(cm).items() if s == "inactive"]
+            waiting = tuple(e.name for e in cm.list_controllers() if e.state == "inactive")
             try:
-                cm.switch_controllers(activate=inactive, strictness="strict")
-            except SwitchError as error:
-                return {"interfaces": sorted(error.interfaces), "controllers": sorted(loaded_controllers(cm))}
-            return {"interfaces": [], "controllers": []}
-        """)
-    assert "conflict_names" in _failed(grade(4, task_root=root))
+                cm.switch_controllers(activate=list(waiting), strictness="STRICT")
+            except SwitchError as rejection:
+                return {"controllers": sorted(set(rejection.controllers)),
+                        "interfaces": sorted(set(rejection.interfaces))}
+            return dict(interfaces=[], controllers=[])
+
+
+        def hardware_component_states(target):
+            out = {}
+            for hw in controller_manager_of(target).list_hardware_components():
+                out[hw.name] = str(hw.state.label)
+            return out
+        ''')}),
+    Variant("in_use_with_setdefault_and_a_manager_check", {FILE: appended('''
+        def controller_manager_of(target):
+            if isinstance(target, ControllerManager):
+                return target
+            return target.controller_manager
+
+
+        def interfaces_in_use(target):
+            usage = {}
+            for c in controller_manager_of(target).list_controllers():
+                entry = usage.setdefault(c.name, {"command": [], "state": []})
+                if c.state != "active":
+                    continue
+                entry["command"] = sorted(c.claimed_interfaces)
+                entry["state"] = sorted(c.required_state_interfaces)
+            return usage
+
+
+        def controller_states(target):
+            states = {}
+            for c in controller_manager_of(target).list_controllers():
+                states[c.name] = c.state
+            return states
+        ''')}),
+]
+
+
+@pytest.fixture(scope="module")
+def rubrics(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Rubric]:
+    return grade_variants(4, WRONG + RIGHT, Path(tmp_path_factory.mktemp("task04")))
+
+
+@pytest.mark.parametrize("variant", WRONG, ids=str)
+def test_wrong_solution_loses_points(rubrics: dict[str, Rubric], variant: Variant) -> None:
+    assert_loses_points(rubrics[variant.name], variant)
+
+
+@pytest.mark.parametrize("variant", RIGHT, ids=str)
+def test_alternative_solution_gets_full_marks(rubrics: dict[str, Rubric], variant: Variant) -> None:
+    assert_full_marks(rubrics[variant.name])
+
+
+def test_enough_variants() -> None:
+    """The issue asks for at least 12 wrong and 3 alternative solutions per task."""
+    assert len(WRONG) >= 12 and len(RIGHT) >= 3

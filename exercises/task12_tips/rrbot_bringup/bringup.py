@@ -28,12 +28,16 @@ def start_rrbot(
         prefix: Prefix of every name the robot brings (xacro argument and controllers' joints).
         robot_controller: ``"forward_position_controller"`` or ``"joint_trajectory_controller"``.
         update_rate: Controller manager rate in [Hz]; the file's value when None.
-        use_mock_hardware: Mock hardware (True) or the RRBot's driver.
+        use_mock_hardware: The xacro argument of the same name: ``mock_components/GenericSystem`` (True) or the
+            RRBot's driver ``controlko_hardware_interface/RRBotHardwareInterface`` (False).
 
     Raises:
-        ValueError: If ``robot_controller`` is not one of the two robot controllers.
+        ValueError: If ``robot_controller`` is not one of the two robot controllers; raised before anything
+            starts, and its message names both valid controllers (as every error of this course names what would
+            be valid).
     """
     # TODO(task 12.2): like your task 2 bringup, plus injection: the prefix reaches the description (a xacro
     #   argument) AND the controllers YAML (read it with its substitutions applied: rw.middleware.param_substitution);
-    #   an update_rate given here overrides the file's without editing it. Refuse an unknown robot_controller.
+    #   an update_rate given here overrides the file's without editing it. Refuse an unknown robot_controller
+    #   with a ValueError whose message names the two valid controllers, before anything starts.
     raise NotImplementedError("TODO(task 12.2): start the RRBot with the injected parameters")

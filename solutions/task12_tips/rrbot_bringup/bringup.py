@@ -31,10 +31,13 @@ def start_rrbot(
         prefix: Prefix of every name the robot brings (xacro argument and controllers' joints).
         robot_controller: ``"forward_position_controller"`` or ``"joint_trajectory_controller"``.
         update_rate: Controller manager rate in [Hz]; the file's value when None.
-        use_mock_hardware: Mock hardware (True) or the RRBot's driver.
+        use_mock_hardware: The xacro argument of the same name: ``mock_components/GenericSystem`` (True) or the
+            RRBot's driver ``controlko_hardware_interface/RRBotHardwareInterface`` (False).
 
     Raises:
-        ValueError: If ``robot_controller`` is not one of the two robot controllers.
+        ValueError: If ``robot_controller`` is not one of the two robot controllers; raised before anything
+            starts, and its message names both valid controllers (as every error of this course names what would
+            be valid).
     """
     if robot_controller not in ROBOT_CONTROLLERS:
         raise ValueError(f"robot_controller must be one of {ROBOT_CONTROLLERS}, got {robot_controller!r}")
