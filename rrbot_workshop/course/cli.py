@@ -223,7 +223,7 @@ def _cmd_export(args: argparse.Namespace) -> int:
         return 0
 
     if not args.student.strip():
-        raise CourseError("export target", args.student, "is empty; give the path of a new folder for the copy")
+        raise CourseError("export target", args.student, "--student is empty; give the path of a new folder for the copy")
     left_out = uncommitted_changes(tracks.course_root())
     target = export_student_copy(args.student, withhold_references=args.withhold_references)
     print(f"Wrote a student copy of the course as committed (without solutions/) to {target}")

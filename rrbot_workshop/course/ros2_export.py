@@ -220,7 +220,7 @@ def _check_target(target: object) -> Path:
         raise CourseError("export target", target, f"must be a folder path, got {type(target).__name__}")
     text = os.fspath(target)
     if not isinstance(text, str) or not text.strip():
-        raise CourseError("export target", text, "is empty; give the path of a new folder to write into")
+        raise CourseError("export target", text, "the target folder is empty text; give the path of a new folder to write into")
     if "\x00" in text or "\n" in text or "\r" in text:
         raise CourseError("export target", text, "contains a NUL or line break; give an ordinary folder path")
     try:

@@ -156,7 +156,6 @@ def init_workspace(target: str | os.PathLike[str] | None = None, source: str | o
         CourseError: If the source is not a course folder, the target is inside it, or the target exists and is
             neither empty nor a workspace.
     """
-    from rrbot_workshop.course.launcher import refresh_notebook_copies
 
     workspace = Path(target).expanduser().resolve() if target is not None else default_workspace()
     src = Path(source).expanduser().resolve() if source is not None else _installed_course(workspace)
@@ -172,6 +171,18 @@ def init_workspace(target: str | os.PathLike[str] | None = None, source: str | o
         raise CourseError("workspace", str(workspace), "exists, is not empty and is not a workspace made by "
                           "`rrbot-workshop init`; give a new folder")
     result = InitResult(workspace, created)
+    try:
+        _fill(src, workspace, result, now)
+    except OSError as exc:
+        raise CourseError("workspace", str(workspace), f"{workspace} cannot be written ({exc.strerror or exc}); give a folder "
+                          "you can write, e.g. ~/rrbot_workshop (what was copied so far is kept)") from None
+    return result
+
+
+def _fill(src: Path, workspace: Path, result: InitResult, now: float | None) -> None:
+    """Copy and update the workspace's files (see :func:`init_workspace`)."""
+    from rrbot_workshop.course.launcher import refresh_notebook_copies
+
     workspace.mkdir(parents=True, exist_ok=True)
     _copy_course_files(src, workspace)
 
@@ -201,7 +212,6 @@ def init_workspace(target: str | os.PathLike[str] | None = None, source: str | o
         made = time.time()
     marker = {"source": str(src), "made": made, "updated": time.time()}
     (workspace / MARKER).write_text(json.dumps(marker, indent=1) + "\n")
-    return result
 
 
 def singleuser_command(workspace: Path, args: list[str]) -> list[str]:

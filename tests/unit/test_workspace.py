@@ -124,3 +124,26 @@ def test_the_single_user_server_opens_the_learners_workspace_without_solutions(t
     assert f"--ServerApp.root_dir={tmp_path}" in command
     hidden = next(a for a in command if a.startswith("--ContentsManager.hide_globs="))
     assert "'solutions'" in hidden and "'notebooks'" in hidden
+
+
+def test_a_workspace_that_cannot_be_written_is_one_clear_error(installed: Path, tmp_path: Path) -> None:
+    locked = tmp_path / "locked"
+    locked.mkdir()
+    locked.chmod(0o500)
+    try:
+        if (locked / "probe").parent.exists() and not _writable(locked):
+            with pytest.raises(CourseError, match="cannot be written"):
+                init_workspace(locked / "ws", installed)
+        with pytest.raises(CourseError):
+            init_workspace("/proc/rrbot_workshop_ws", installed)
+    finally:
+        locked.chmod(0o700)
+
+
+def _writable(folder: Path) -> bool:
+    try:
+        (folder / ".probe").write_text("")
+    except OSError:
+        return False
+    (folder / ".probe").unlink()
+    return True
