@@ -470,8 +470,9 @@ def test_remove_controller_generated(learner: ModuleType) -> None:
             problem = str(exc)
         except Exception as exc:  # noqa: BLE001 - reported below with the smallest case that raises it
             before = ", ".join(f"{n} {s}" for n, s in {JSB: "active", **states}.items() if s != "unloaded")
-            problem = (f"remove_controller(cm, {which!r}) with {before} raised {type(exc).__name__}: "
-                       + " ".join(line.strip() for line in str(exc).splitlines()))
+            message = " ".join(line.strip() for line in str(exc).splitlines())
+            problem = (f"remove_controller(cm, {which!r}) with {before} raised {type(exc).__name__}"
+                       + (f": {message}" if message else " (with no message)"))
         if problem:
             problems[:] = [problem]
         assert not problem

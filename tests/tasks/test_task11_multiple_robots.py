@@ -27,6 +27,7 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
+import description_compare
 import pytest
 import yaml
 from hypothesis import HealthCheck, Phase, given, settings
@@ -239,9 +240,9 @@ def test_description_matches_the_task_for_any_arguments(description_file: Path) 
     def difference(args: dict[str, Any]) -> str:
         key = tuple(sorted(args.items()))
         if key not in seen:
-            expected = _summary(process_xacro(_reference(), **args))
+            expected = description_compare.summary(process_xacro(_reference(), **args))
             try:
-                seen[key] = _difference(_summary(process_xacro(description_file, **args)), expected)
+                seen[key] = description_compare.difference(description_compare.summary(process_xacro(description_file, **args)), expected)
             except rw.RRBotWorkshopError as exc:
                 seen[key] = f"it is refused: {_clean(str(exc), description_file)}"
         return seen[key]
@@ -261,49 +262,6 @@ def test_description_matches_the_task_for_any_arguments(description_file: Path) 
         # Hypothesis replays the smallest failing scenario last: its arguments are the last ones recorded.
         scenario_args = _args(**failing[-1]) if failing else "some arguments"
         _fail(f"your {description_file.name} with {scenario_args}: {exc.args[0] if exc.args else exc}.")
-
-
-def _summary(urdf: str) -> dict[str, Any]:
-    robot = ET.fromstring(urdf)
-    joints = {}
-    for joint in robot.findall("joint"):
-        origin = joint.find("origin")
-        xyz = [round(float(v), 6) + 0.0 for v in ((origin.get("xyz") if origin is not None else None) or "0 0 0").split()]
-        rpy = [round(float(v), 6) + 0.0 for v in ((origin.get("rpy") if origin is not None else None) or "0 0 0").split()]
-        joints[str(joint.get("name"))] = (joint.get("type"), joint.find("parent").get("link"),  # type: ignore[union-attr]
-                                          joint.find("child").get("link"), xyz, rpy)  # type: ignore[union-attr]
-    components = {tuple(sorted(j.name for j in i.joints)): (
-        i.hardware_plugin_name, sorted(s.name for s in i.sensors), sorted(g.name for g in i.gpios))
-        for i in parse_ros2_control(urdf)}
-    return {"links": sorted(str(link.get("name")) for link in robot.findall("link")), "joints": joints,
-            "components": components}
-
-
-def _difference(got: dict[str, Any], expected: dict[str, Any]) -> str:
-    missing = sorted(set(expected["links"]) - set(got["links"]))
-    extra = sorted(set(got["links"]) - set(expected["links"]))
-    if missing or extra:
-        return f"the links {missing} are missing and {extra} should not be there"
-    for name, (kind, parent, child, xyz, rpy) in expected["joints"].items():
-        mine = next((j for j in got["joints"].values() if j[2] == child), None)
-        if mine is None:
-            return f"no joint holds the link {child}"
-        # the task places each robot's base_link but says nothing of its orientation: any rpy is right there
-        turned = mine[4] != rpy and not child.endswith("base_link")
-        if mine[1] != parent or mine[3] != xyz or turned or mine[0] != kind:
-            return (f"{child} hangs from {mine[1]} at xyz {mine[3]} rpy {mine[4]} ({mine[0]}), expected from {parent} "
-                    f"at xyz {xyz} rpy {rpy} ({kind}) (joint '{name}')")
-    if len(got["components"]) != len(expected["components"]):
-        return f"{len(got['components'])} hardware components, expected {len(expected['components'])}"
-    for joints, (plugin, sensors, gpios) in expected["components"].items():
-        mine = got["components"].get(joints)
-        if mine is None:
-            return f"no hardware component holds exactly the joints {list(joints)}"
-        if mine[0] != plugin:
-            return f"the component of {list(joints)} uses the plugin '{mine[0]}', expected '{plugin}'"
-        if mine[1] != sensors or mine[2] != gpios:
-            return f"the component of {list(joints)} has sensors {mine[1]} and GPIOs {mine[2]}, expected {sensors} and {gpios}"
-    return ""
 
 
 # --------------------------------------------------------------------------------------------- 11.2 the controllers

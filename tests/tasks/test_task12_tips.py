@@ -433,7 +433,7 @@ def _outcome(start: Callable[..., System], kwargs: dict[str, Any]) -> Any:
     except rw.SwitchError as err:
         return _rejected(err)
     except Exception as exc:  # noqa: BLE001 - a scenario's outcome; the fixed checks show the learner's traceback
-        return f"it raised {type(exc).__name__}: {exc}"
+        return f"it raised {type(exc).__name__}" + (f": {exc}" if str(exc) else " (with no message)")
     finally:
         for running in list(systems().values()):
             running.shutdown()

@@ -19,10 +19,12 @@ def _grader(task: int) -> ModuleType:
     assert spec is not None and spec.loader is not None
     module = importlib.util.module_from_spec(spec)
     sys.modules[spec.name] = module  # a grader's dataclasses look their module up while they are made
+    sys.path.insert(0, str(path.parent))  # as pytest runs a grader: its helper modules beside it
     try:
         spec.loader.exec_module(module)
     finally:
         sys.modules.pop(spec.name, None)
+        sys.path.remove(str(path.parent))
     return module
 
 
