@@ -466,3 +466,57 @@ def test_a_grader_failure_without_learner_code_involved_keeps_the_graders_words(
     checks = {c.name: c for c in grade(5, check_timeout=5.0, record=False).checks}
     assert checks["direct"].detail == "answer() must return 42"
     assert checks["caught_by_the_library"].detail == "the switch was rejected"
+
+
+_GRADER_SHARED_FIXTURE = '''
+import logging
+
+import pytest
+
+import rrbot_workshop as rw
+from rrbot_workshop.course.grading import graded
+
+
+def _answer():
+    module = rw.course.load_module(5, "code.py", quiet=True)
+    try:
+        return module.answer()
+    except Exception:
+        logging.getLogger("rrbot_workshop.fake").error("answer() raised; treated as ERROR", exc_info=True)
+        return None
+
+
+@pytest.fixture(scope=SCOPE)
+def answer():
+    return _answer()
+
+
+@graded(points=1, hint=("idea", "api", "code"))
+def test_first(answer):
+    assert answer == 42, "the system did not come up"
+
+
+@graded(points=1, hint=("idea", "api", "code"))
+def test_second(answer):
+    assert answer == 42, "the second check found no system either"
+
+
+@graded(points=1, hint=("idea", "api", "code"))
+def test_unrelated():
+    assert False, "an unrelated rule is broken"
+'''
+
+
+@pytest.mark.parametrize("scope", ["module", "function"])
+def test_a_learner_error_met_by_a_shared_fixture_leads_the_checks_it_served_and_no_others(
+    course: Path, scope: str
+) -> None:
+    """A module-scoped fixture set up once (in the first check) met the learner's error: the second check, given what
+    it left, names it too; a check that does not use it keeps its own reason, whatever the fixture's scope."""
+    (course / "tests" / "tasks" / "test_task05_fake.py").write_text(_GRADER_SHARED_FIXTURE.replace("SCOPE", repr(scope)))
+    (course / "exercises" / "task05_fake" / "code.py").write_text("def answer():\n    return 1 / 0\n")
+    checks = {c.name: c for c in grade(5, check_timeout=5.0, record=False).checks}
+    learner = "your code.py, line 2, in answer: ZeroDivisionError: division by zero"
+    assert checks["first"].detail == f"{learner}; then: the system did not come up"
+    assert checks["second"].detail == f"{learner}; then: the second check found no system either"
+    assert checks["unrelated"].detail == "an unrelated rule is broken"

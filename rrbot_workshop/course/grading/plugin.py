@@ -84,7 +84,8 @@ class RubricCollector:
         self.root = learner_root()
         #: The learner's exceptions the library caught and logged in the current check ...
         self.learner_log = LearnerErrorLog(self.root)
-        #: ... and in the set-up of fixtures shared by several checks (a module's system), per module.
+        #: ... and in the set-up of fixtures shared by several checks (a module's system): "<module>::<fixture>"
+        #: ("*::<fixture>" for a session's).
         self._shared_errors: dict[str, list[str]] = {}
 
     def start_logging(self) -> None:
@@ -100,8 +101,12 @@ class RubricCollector:
         first = self.learner_log.first()
         if first is not None:
             return first
-        shared = self._shared_errors.get(str(getattr(item, "module", None)), [])
-        return shared[0] if shared else None
+        module = str(getattr(item, "module", None))
+        for name in getattr(item, "fixturenames", ()):  # only the shared fixtures this check was given
+            shared = self._shared_errors.get(f"{module}::{name}") or self._shared_errors.get(f"*::{name}")
+            if shared:
+                return shared[0]
+        return None
 
     # ------------------------------------------------------------------ output
     def dump(self) -> None:
@@ -182,12 +187,22 @@ class RubricCollector:
     @pytest.hookimpl(wrapper=True)
     def pytest_runtest_setup(self, item: pytest.Item) -> Generator[None, Any, Any]:
         self.learner_log.clear()
+        with self.time_limit(item.nodeid, "set-up"):
+            return (yield)
+
+    @pytest.hookimpl(wrapper=True)
+    def pytest_fixture_setup(self, fixturedef: Any, request: Any) -> Generator[None, Any, Any]:
+        """A fixture shared by several checks (module or session scope) that met the learner's error while it was set
+        up: the later checks that fail without an error of their own were given what it left, so they name it too."""
+        before = len(self.learner_log.found)
         try:
-            with self.time_limit(item.nodeid, "set-up"):
-                return (yield)
+            return (yield)
         finally:
-            if self.learner_log.found:  # fixtures set up here may serve the module's later checks too
-                self._shared_errors.setdefault(str(getattr(item, "module", None)), []).extend(self.learner_log.found)
+            found = self.learner_log.found[before:]
+            if found and fixturedef.scope != "function":
+                module = getattr(request.node, "module", None)
+                key = f"{module if module is not None else '*'}::{fixturedef.argname}"
+                self._shared_errors.setdefault(key, []).extend(found)
 
     @pytest.hookimpl(wrapper=True)
     def pytest_runtest_call(self, item: pytest.Item) -> Generator[None, Any, Any]:
