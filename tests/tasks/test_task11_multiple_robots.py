@@ -30,13 +30,11 @@ from typing import Any
 import description_compare
 import pytest
 import yaml
-from hypothesis import HealthCheck, Phase, given, settings
 from hypothesis import strategies as st
 
 import rrbot_workshop as rw
 from rrbot_workshop.bringup import System, bringup
 from rrbot_workshop.course.grading import graded
-from rrbot_workshop.course.learner import shown
 from rrbot_workshop.course.lint import lint_controllers
 from rrbot_workshop.description import descriptions_root, parse_ros2_control, process_xacro
 from rrbot_workshop.msgs import Float64MultiArray, JointTrajectory, JointTrajectoryPoint
@@ -53,8 +51,6 @@ TYPES = {FPC: "forward_command_controller/ForwardCommandController",
 POSITION_TOLERANCE = 1e-3
 #: How far a pedestal may stand from +-spacing/2 [m] (the task: "to 1 µm").
 PLACEMENT_TOLERANCE = 1e-6
-#: Hypothesis's phases without "explain" (it re-runs the learner's xacro many times only to annotate the failure).
-SHRINK_WITHOUT_EXPLAIN = (Phase.explicit, Phase.generate, Phase.shrink)
 
 
 def _reference() -> Path:
@@ -75,13 +71,8 @@ def _fail(message: str) -> None:
     pytest.fail(message, pytrace=False)
 
 
-def _args(**args: Any) -> str:
-    return " ".join(f"{k}:={str(v).lower() if isinstance(v, bool) else v}" for k, v in args.items()) or "its defaults"
-
-
-def _clean(text: str, path: Path) -> str:
-    """``text`` with the learner's absolute path written as the learner knows it."""
-    return text.replace(str(path), shown(path))
+_args = description_compare.arguments
+_clean = description_compare.as_shown
 
 
 def _urdf(path: Path, **args: Any) -> str:
@@ -234,37 +225,8 @@ def test_description_matches_the_task_for_any_arguments(description_file: Path) 
         "use_mock_hardware": st.booleans(),
     }).filter(lambda a: a["prefix_1"] != a["prefix_2"])
 
-    failing: list[dict[str, Any]] = []
-    seen: dict[tuple[Any, ...], str] = {}  # scenario -> difference ("" when none): shrinking revisits scenarios
-
-    def difference(args: dict[str, Any]) -> str:
-        key = tuple(sorted(args.items()))
-        if key not in seen:
-            expected = description_compare.summary(process_xacro(_reference(), **args))
-            try:
-                seen[key] = description_compare.difference(description_compare.summary(process_xacro(description_file, **args)), expected)
-            except rw.RRBotWorkshopError as exc:
-                seen[key] = f"it is refused: {_clean(str(exc), description_file)}"
-        return seen[key]
-
-    @settings(derandomize=True, database=None, deadline=None, max_examples=8,
-              suppress_health_check=list(HealthCheck), phases=SHRINK_WITHOUT_EXPLAIN, report_multiple_bugs=False)
-    @given(scenario)
-    def compare(args: dict[str, Any]) -> None:
-        found = difference(args)
-        if found:
-            failing.append(args)
-            raise AssertionError(found)
-
-    try:
-        compare()
-    except AssertionError as exc:
-        # Hypothesis replays the smallest failing scenario last: its arguments are the last ones recorded.
-        scenario_args = _args(**failing[-1]) if failing else "some arguments"
-        _fail(f"your {description_file.name} with {scenario_args}: {exc.args[0] if exc.args else exc}.")
-
-
-# --------------------------------------------------------------------------------------------- 11.2 the controllers
+    found = description_compare.first_difference(description_file, _reference(), scenario)
+    assert not found, found
 
 
 @graded(points=2, hint=(
