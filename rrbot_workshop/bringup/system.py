@@ -1,42 +1,30 @@
-"""Bring-up: the launch file of this library. Description + controllers YAML -> a running :class:`System`.
+"""The running robot: :class:`System` (hardware, controllers, topic bus and clock) and the registry of running ones.
 
-A ros2_control launch file runs xacro, starts ``ros2_control_node`` with the URDF and the controllers
-YAML, and calls spawners. :func:`bringup` does the same in one call:
-
-1. the description (a ``.xacro``/``.urdf`` path, URDF text, or a package name under ``descriptions/``)
-   becomes URDF text, and its ``<ros2_control>`` tags become :class:`~rrbot_workshop.description.HardwareInfo`;
-2. the resource manager loads the hardware and brings each component to its initial state
-   (``hardware_components_initial_state`` of the controller manager, or ``hardware_initial_state``);
-3. the controller manager is created with the YAML's parameters;
-4. spawner semantics: controllers in ``spawn`` are loaded, configured and activated together in one
-   strict switch; those in ``inactive`` are loaded and configured only.
-
-The :class:`System` then runs on its clock: ``spin(seconds)`` advances simulated time cycle by cycle.
+A :class:`System` is what :func:`~rrbot_workshop.bringup.bringup` returns: the stand-in for a running
+``ros2_control_node`` with its spawners done. It runs on its clock (``spin(seconds)`` advances simulated time cycle
+by cycle), takes topics and service calls, spawns and unspawns controllers, and can keep spinning between notebook
+cells (:mod:`rrbot_workshop.bringup.spinner`). Running systems are kept by name for the magics (``%control
+--system``).
 """
 
 from __future__ import annotations
 
 import itertools
 import logging
-import sys
-import types
-from collections.abc import Iterable, Mapping
-from pathlib import Path
+import re
+from collections.abc import Iterable
 from types import TracebackType
 from typing import Any
 
-from rrbot_workshop.bringup_inputs import controllers_config, description_to_urdf, hardware_initial_states
 from rrbot_workshop.controller_manager.manager import ControllerManager
 from rrbot_workshop.controller_manager.node_loop import run_cycles
 from rrbot_workshop.description.info import HardwareInfo
-from rrbot_workshop.exceptions import ControllerNotFound, HardwareError, ParameterError
-from rrbot_workshop.hardware_interface.resource_manager import ResourceManager
-from rrbot_workshop.middleware.clock import Clock, WallClock, make_clock
-from rrbot_workshop.middleware.controllers_yaml import ControllersConfig
+from rrbot_workshop.exceptions import HardwareError, ParameterError
+from rrbot_workshop.middleware.clock import Clock, WallClock
 from rrbot_workshop.middleware.lifecycle import State
 from rrbot_workshop.middleware.topics import TopicBus
 
-__all__ = ["bringup", "System", "current_system", "get_system", "systems"]
+__all__ = ["System", "current_system", "get_system", "systems", "register", "unique_name"]
 
 _log = logging.getLogger(__name__)
 
@@ -154,15 +142,15 @@ class System:
 
     def spin_in_background(self, real_time_factor: float = 1.0, tick: float = 0.02) -> Any:
         """Keep the control loop running between cells, ``real_time_factor`` simulated seconds per wall second
-        (see :mod:`rrbot_workshop.background`); a running background loop is replaced.
+        (see :mod:`rrbot_workshop.bringup.spinner`); a running background loop is replaced.
 
         Returns:
-            The :class:`~rrbot_workshop.background.BackgroundSpinner` (``.stop()``, ``.running``, ``.error``).
+            The :class:`~rrbot_workshop.bringup.spinner.BackgroundSpinner` (``.stop()``, ``.running``, ``.error``).
 
         Raises:
             HardwareError: If the system is shut down, runs on a wall clock, or no event loop runs.
         """
-        from rrbot_workshop.background import BackgroundSpinner
+        from rrbot_workshop.bringup.spinner import BackgroundSpinner
 
         self._check_running()
         self.stop_background()
@@ -312,94 +300,25 @@ class System:
         )
 
 
-# ===================================================================== bringup
-def bringup(
-    description: str | Path,
-    controllers: str | Path | Mapping[str, Any] | ControllersConfig | None = None,
-    xacro_args: Mapping[str, Any] | None = None,
-    spawn: Iterable[str] = (),
-    inactive: Iterable[str] = (),
-    clock: str | Clock = "sim",
-    hardware_initial_state: Mapping[str, str | State] | None = None,
-    name: str | None = None,
-) -> System:
-    """Build and start a system from a description and a controllers YAML.
-
-    Args:
-        description: ``.xacro``/``.urdf`` path, URDF text, or a package name under ``descriptions/``
-            (then ``urdf/<name>.urdf.xacro`` is used).
-        controllers: Controllers YAML: a path, a file name under ``descriptions/<package>/config/``,
-            YAML text, a mapping, or a :class:`ControllersConfig`. None: no controllers declared.
-        xacro_args: Xacro arguments (``{"use_mock_hardware": True}``).
-        spawn: Controllers to load, configure and activate (one strict switch for all).
-        inactive: Controllers to load and configure only.
-        clock: ``"sim"`` (deterministic, default), ``"wall"`` (paced to real time) or a clock object.
-        hardware_initial_state: Component name -> ``"unconfigured"``/``"inactive"``/``"active"``;
-            overrides ``hardware_components_initial_state`` from the YAML. Unlisted components become active.
-        name: System name for ``%control --system``; the robot name (plus a number if taken) by default.
-
-    Returns:
-        The running :class:`System` (it becomes the "current" one for the magics).
+def unique_name(urdf: str, name: str | None) -> str:
+    """The name a new system gets: ``name`` if free, else the robot's name (plus a number if taken).
 
     Raises:
-        DescriptionError: If the description cannot be found or parsed.
-        ParameterError: If the controllers YAML cannot be found or is malformed.
-        HardwareError: If hardware cannot be loaded, or an initial state names an unknown component.
-        ControllerNotFound: If a controller in ``spawn``/``inactive`` is not declared in the YAML.
-        ControllerError: If a controller fails to load, configure or activate.
-        SwitchError: If activating ``spawn`` is rejected.
+        HardwareError: If ``name`` is given and a running system has it.
     """
-    from rrbot_workshop.description import parse_ros2_control
-
-    urdf, package, source = description_to_urdf(description, xacro_args or {})
-    cfg = controllers_config(controllers, package)
-    infos = parse_ros2_control(urdf, source=source)
-    spawn, inactive = list(spawn), list(inactive)
-    both = sorted(set(spawn) & set(inactive))
-    if both:
-        raise ParameterError("bringup", "spawn/inactive", f"{both} appear in both lists; choose one")
-    for ctrl in [*spawn, *inactive]:
-        if ctrl not in cfg.controller_types and "type" not in cfg.parameters_for(ctrl):  # '/**' may give the type
-            raise ControllerNotFound(ctrl, cfg.controller_types, what=f"declared in the controllers config ({cfg.source})")
-
-    the_clock = make_clock(clock, cfg.update_rate)
-    rm = ResourceManager(update_rate=cfg.update_rate, initial_states=hardware_initial_states(cfg, hardware_initial_state))
-    rm.load_hardware_infos(infos)
-    cm = ControllerManager(rm, TopicBus(), cfg.update_rate, urdf, cfg, the_clock)
-    if name is None:
-        import re
-
-        match = re.search(r"<robot[^>]*\bname\s*=\s*[\"']([^\"']+)", urdf)
-        base = match.group(1) if match else "system"
-        name = base if base not in _SYSTEMS else f"{base}_{next(_COUNTER)}"
-        while name in _SYSTEMS:
-            name = f"{base}_{next(_COUNTER)}"
-    elif name in _SYSTEMS:
-        raise HardwareError(f"a system named '{name}' is already running; shut it down or pick another name")
-    system = System(name, urdf, infos, cm, the_clock)
-    try:
-        for ctrl in [*spawn, *inactive]:
-            cm.load_controller(ctrl)
-            cm.configure_controller(ctrl)
-        if spawn:
-            cm.switch_controllers(activate=spawn, strictness="strict")
-    except Exception:
-        system._running = True
-        system.shutdown()
-        raise
-    _SYSTEMS[name] = system
-    _CURRENT.append(name)
-    _log.info("brought up '%s': hardware %s, active %s", name, rm.component_names(), spawn)
-    return system
+    if name is not None:
+        if name in _SYSTEMS:
+            raise HardwareError(f"a system named '{name}' is already running; shut it down or pick another name")
+        return name
+    match = re.search(r"<robot[^>]*\bname\s*=\s*[\"']([^\"']+)", urdf)
+    base = match.group(1) if match else "system"
+    name = base if base not in _SYSTEMS else f"{base}_{next(_COUNTER)}"
+    while name in _SYSTEMS:
+        name = f"{base}_{next(_COUNTER)}"
+    return name
 
 
-class _CallableModule(types.ModuleType):
-    """``import rrbot_workshop.bringup`` binds the package attribute ``bringup`` to this module, which would
-    hide the function of the same name (``rw.bringup(...)``). Calling the module therefore calls the function."""
-
-    def __call__(self, *args: Any, **kwargs: Any) -> System:
-        return bringup(*args, **kwargs)
-
-
-sys.modules[__name__].__class__ = _CallableModule
-sys.modules[__name__].__wrapped__ = bringup  # type: ignore[attr-defined]  # inspect.signature shows bringup's
+def register(system: System) -> None:
+    """Keep ``system`` as a running one and make it the current system."""
+    _SYSTEMS[system.name] = system
+    _CURRENT.append(system.name)

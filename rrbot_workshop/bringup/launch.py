@@ -1,0 +1,104 @@
+"""Bring-up: the launch file of this library. Description + controllers YAML -> a running :class:`System`.
+
+A ros2_control launch file runs xacro, starts ``ros2_control_node`` with the URDF and the controllers
+YAML, and calls spawners. :func:`bringup` does the same in one call:
+
+1. the description (a ``.xacro``/``.urdf`` path, URDF text, or a package name under ``descriptions/``)
+   becomes URDF text, and its ``<ros2_control>`` tags become :class:`~rrbot_workshop.description.HardwareInfo`;
+2. the resource manager loads the hardware and brings each component to its initial state
+   (``hardware_components_initial_state`` of the controller manager, or ``hardware_initial_state``);
+3. the controller manager is created with the YAML's parameters;
+4. spawner semantics: controllers in ``spawn`` are loaded, configured and activated together in one
+   strict switch; those in ``inactive`` are loaded and configured only.
+"""
+
+from __future__ import annotations
+
+import logging
+from collections.abc import Iterable, Mapping
+from pathlib import Path
+from typing import Any
+
+from rrbot_workshop.bringup.inputs import controllers_config, description_to_urdf, hardware_initial_states
+from rrbot_workshop.bringup.system import System, register, unique_name
+from rrbot_workshop.controller_manager.manager import ControllerManager
+from rrbot_workshop.exceptions import ControllerNotFound, ParameterError
+from rrbot_workshop.hardware_interface.resource_manager import ResourceManager
+from rrbot_workshop.middleware.clock import Clock, make_clock
+from rrbot_workshop.middleware.controllers_yaml import ControllersConfig
+from rrbot_workshop.middleware.lifecycle import State
+from rrbot_workshop.middleware.topics import TopicBus
+
+__all__ = ["bringup"]
+
+_log = logging.getLogger(__name__)
+
+
+def bringup(
+    description: str | Path,
+    controllers: str | Path | Mapping[str, Any] | ControllersConfig | None = None,
+    xacro_args: Mapping[str, Any] | None = None,
+    spawn: Iterable[str] = (),
+    inactive: Iterable[str] = (),
+    clock: str | Clock = "sim",
+    hardware_initial_state: Mapping[str, str | State] | None = None,
+    name: str | None = None,
+) -> System:
+    """Build and start a system from a description and a controllers YAML.
+
+    Args:
+        description: ``.xacro``/``.urdf`` path, URDF text, or a package name under ``descriptions/``
+            (then ``urdf/<name>.urdf.xacro`` is used).
+        controllers: Controllers YAML: a path, a file name under ``descriptions/<package>/config/``,
+            YAML text, a mapping, or a :class:`ControllersConfig`. None: no controllers declared.
+        xacro_args: Xacro arguments (``{"use_mock_hardware": True}``).
+        spawn: Controllers to load, configure and activate (one strict switch for all).
+        inactive: Controllers to load and configure only.
+        clock: ``"sim"`` (deterministic, default), ``"wall"`` (paced to real time) or a clock object.
+        hardware_initial_state: Component name -> ``"unconfigured"``/``"inactive"``/``"active"``;
+            overrides ``hardware_components_initial_state`` from the YAML. Unlisted components become active.
+        name: System name for ``%control --system``; the robot name (plus a number if taken) by default.
+
+    Returns:
+        The running :class:`System` (it becomes the "current" one for the magics).
+
+    Raises:
+        DescriptionError: If the description cannot be found or parsed.
+        ParameterError: If the controllers YAML cannot be found or is malformed.
+        HardwareError: If hardware cannot be loaded, or an initial state names an unknown component.
+        ControllerNotFound: If a controller in ``spawn``/``inactive`` is not declared in the YAML.
+        ControllerError: If a controller fails to load, configure or activate.
+        SwitchError: If activating ``spawn`` is rejected.
+    """
+    from rrbot_workshop.description import parse_ros2_control
+
+    urdf, package, source = description_to_urdf(description, xacro_args or {})
+    cfg = controllers_config(controllers, package)
+    infos = parse_ros2_control(urdf, source=source)
+    spawn, inactive = list(spawn), list(inactive)
+    both = sorted(set(spawn) & set(inactive))
+    if both:
+        raise ParameterError("bringup", "spawn/inactive", f"{both} appear in both lists; choose one")
+    for ctrl in [*spawn, *inactive]:
+        if ctrl not in cfg.controller_types and "type" not in cfg.parameters_for(ctrl):  # '/**' may give the type
+            raise ControllerNotFound(ctrl, cfg.controller_types, what=f"declared in the controllers config ({cfg.source})")
+
+    the_clock = make_clock(clock, cfg.update_rate)
+    rm = ResourceManager(update_rate=cfg.update_rate, initial_states=hardware_initial_states(cfg, hardware_initial_state))
+    rm.load_hardware_infos(infos)
+    cm = ControllerManager(rm, TopicBus(), cfg.update_rate, urdf, cfg, the_clock)
+    name = unique_name(urdf, name)
+    system = System(name, urdf, infos, cm, the_clock)
+    try:
+        for ctrl in [*spawn, *inactive]:
+            cm.load_controller(ctrl)
+            cm.configure_controller(ctrl)
+        if spawn:
+            cm.switch_controllers(activate=spawn, strictness="strict")
+    except Exception:
+        system._running = True
+        system.shutdown()
+        raise
+    register(system)
+    _log.info("brought up '%s': hardware %s, active %s", name, rm.component_names(), spawn)
+    return system
