@@ -348,3 +348,33 @@ def test_rrbot_joint_limits_without_enforcement_change_nothing(caplog: pytest.Lo
         early, _ = _move_joint1(config, 1.0, 0.0)
     assert early == 1.0
     assert "joint_limits parameters are not applied: enforce_command_limits is false" in caplog.text
+
+
+# ----------------------------------------------------------------------------------------------- lint
+_LINT_YAML = """\
+controller_manager:
+  ros__parameters:
+    update_rate: 100
+    enforce_command_limits: true
+    joint_limits:
+      joint1:
+        has_velocity_limits: true
+        max_velocity: 0.5
+    joint_state_broadcaster:
+      type: joint_state_broadcaster/JointStateBroadcaster
+"""
+
+
+def test_lint_notes_the_managers_joint_limits_and_finds_their_mistakes(tmp_path: Path) -> None:
+    from rrbot_workshop.course.lint import lint_controllers
+
+    path = tmp_path / "controllers.yaml"
+    path.write_text(_LINT_YAML)
+    findings = lint_controllers(path)
+    assert [f.level for f in findings] == ["note"]
+    assert "Jazzy's controller manager does not apply 'joint_limits'" in findings[0].message
+    path.write_text(_LINT_YAML.replace("max_velocity: 0.5", "max_vel: 0.5"))
+    errors = [f for f in lint_controllers(path) if f.level == "error"]
+    assert len(errors) == 1 and "'max_vel' is not a joint limits parameter (did you mean 'max_velocity'?)" in (
+        errors[0].message)
+    assert errors[0].line == 8
