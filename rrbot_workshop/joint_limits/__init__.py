@@ -9,6 +9,7 @@ package (Jazzy semantics).
   it down as it nears its soft limits. Both take :class:`JointControlInterfacesData` (optional position, velocity,
   effort, acceleration, jerk): ``enforce(actual, desired, dt)`` changes ``desired`` in place and returns whether it
   limited anything. One limiter per joint, as in Jazzy.
+  :class:`JointTrajectoryPointSaturationLimiter` limits a trajectory point of several joints at once.
 
 **Where the parameters come from.** In Jazzy the resource manager limits commands (``enforce_command_limits: true``)
 with the limits of the URDF alone; ``joint_limits.*`` parameters are read by whoever builds a limiter from its own
@@ -73,6 +74,7 @@ from rrbot_workshop.joint_limits.soft_limiter import (
     has_soft_limits,
     has_soft_position_limits,
 )
+from rrbot_workshop.joint_limits.trajectory_limiter import JointTrajectoryPointSaturationLimiter
 
 __all__ = [
     "JointLimits",
@@ -90,6 +92,7 @@ __all__ = [
     "JointLimiterInterface",
     "JointSaturationLimiter",
     "JointSoftLimiter",
+    "JointTrajectoryPointSaturationLimiter",
     "has_soft_limits",
     "has_soft_position_limits",
     "SOFT_LIMIT_REACH_VELOCITY",

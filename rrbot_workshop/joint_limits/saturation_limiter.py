@@ -18,7 +18,9 @@ applied.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 
+from rrbot_workshop.description.info import JointLimits, SoftJointLimits
 from rrbot_workshop.exceptions import ParameterError
 from rrbot_workshop.joint_limits.data_structures import JointControlInterfacesData
 from rrbot_workshop.joint_limits.helpers import (
@@ -50,9 +52,15 @@ class JointSaturationLimiter(JointLimiterInterface[JointControlInterfacesData]):
     Build it with ``JointSaturationLimiter([name], [limits])`` or ``JointSaturationLimiter()`` and :meth:`init`.
     """
 
-    def __init__(self, *args: object, **kwargs: object) -> None:
+    def __init__(
+        self,
+        joint_names: Sequence[str] | None = None,
+        limits: Sequence[JointLimits] = (),
+        soft_limits: Sequence[SoftJointLimits] = (),
+    ) -> None:
+        #: The previous limited command (the measured state before the first one).
         self.prev_command = JointControlInterfacesData()
-        super().__init__(*args, **kwargs)  # type: ignore[arg-type]
+        super().__init__(joint_names, limits, soft_limits)
 
     def on_init(self) -> None:
         """Refuse any number of joints but one; forget the previous command.

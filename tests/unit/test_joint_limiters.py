@@ -16,8 +16,10 @@ from rrbot_workshop.joint_limits import (
     JointLimits,
     JointSaturationLimiter,
     JointSoftLimiter,
+    JointTrajectoryPointSaturationLimiter,
     SoftJointLimits,
 )
+from rrbot_workshop.msgs import JointTrajectoryPoint
 
 DT = 0.01  # [s]
 #: Hard limits: [-1, 1] rad, 2 rad/s, 5 N m.
@@ -291,3 +293,44 @@ def test_an_effort_driven_joint_is_slowed_by_its_soft_limits_not_by_saturation_a
     assert max(saturated) > 1.0  # saturation only stops pushing at the limit: the joint coasts through it
     assert max(softened) < 0.75  # braked from the soft range on, well before the hard limit
     assert v == pytest.approx(-SOFT_LIMIT_REACH_VELOCITY, rel=1e-3)  # and brought back towards the soft range
+
+
+# ----------------------------------------------------------------------------------------------- trajectory points
+def _points(limits: JointLimits) -> JointTrajectoryPointSaturationLimiter:
+    return JointTrajectoryPointSaturationLimiter(["a", "b"], [limits, limits])
+
+
+WITH_ACC = JointLimits(**{**LIMITS.__dict__, "has_acceleration_limits": True, "max_acceleration": 10.0})
+
+
+def test_trajectory_point_position_is_clamped_into_the_position_limits() -> None:
+    desired = JointTrajectoryPoint(positions=[5.0, 0.0])
+    assert _points(LIMITS).enforce(JointTrajectoryPoint(positions=[0.995, 0.0]), desired, DT)
+    assert desired.positions == [1.0, 0.0]  # 5 mrad in 10 ms is 0.5 rad/s: within the velocity limit
+
+
+def test_trajectory_point_steps_are_clamped_to_the_velocity_limit_for_each_joint() -> None:
+    desired = JointTrajectoryPoint(positions=[0.5, -0.5])
+    _points(LIMITS).enforce(JointTrajectoryPoint(positions=[0.0, 0.0]), desired, DT)
+    assert desired.positions == pytest.approx([0.02, -0.02], abs=ABS)  # 2 rad/s * 10 ms
+
+
+def test_trajectory_point_acceleration_limit_integrates_position_twice() -> None:
+    desired = JointTrajectoryPoint(positions=[0.5, 0.0])
+    _points(WITH_ACC).enforce(JointTrajectoryPoint(positions=[0.0, 0.0], velocities=[0.0, 0.0]), desired, DT)
+    assert desired.positions == pytest.approx([0.0005, 0.0], abs=ABS)  # 0.5 * 10 rad/s^2 * (10 ms)^2
+
+
+def test_trajectory_point_near_a_limit_brakes_every_joint() -> None:
+    """Joint a at 0.9 rad and 2 rad/s needs 2^2 / (2 * 10) = 0.2 rad to stop: more than the 0.1 rad left."""
+    desired = JointTrajectoryPoint(positions=[1.0, 0.3], velocities=[2.0, 1.0])
+    current = JointTrajectoryPoint(positions=[0.9, 0.0], velocities=[2.0, 1.0])
+    assert _points(WITH_ACC).enforce(current, desired, DT)
+    assert desired.velocities == pytest.approx([1.9, 0.9], abs=ABS)  # both at -10 rad/s^2 for 10 ms
+    assert desired.positions == pytest.approx([0.9 + 0.02 - 0.0005, 0.01 - 0.0005], abs=ABS)
+
+
+def test_trajectory_point_without_a_current_position_is_not_limited() -> None:
+    desired = JointTrajectoryPoint(positions=[5.0, 5.0])
+    assert not _points(LIMITS).enforce(JointTrajectoryPoint(), desired, DT)
+    assert desired.positions == [5.0, 5.0]
