@@ -403,3 +403,22 @@ def test_rrbot_joint_beyond_a_parameter_position_limit_is_logged_once_and_left_a
     assert second == pytest.approx(0.5)  # up to max_position
     errors = [r.getMessage() for r in caplog.records if "its position 0 is out of its limits [0.2, 0.5]" in r.getMessage()]
     assert len(errors) == 1 and "joint 'joint1'" in errors[0]
+
+
+def test_rrbot_joint_limits_for_a_joint_no_component_has_are_warned_about(caplog: pytest.LogCaptureFixture) -> None:
+    config = _config({"enforce_command_limits": True,
+                      "joint_limits": {"elbow": {"has_velocity_limits": True, "max_velocity": 0.5}}})
+    with caplog.at_level(logging.WARNING), rw.bringup("rrbot", config, xacro_args={"use_mock_hardware": True}):
+        pass
+    assert "name joints that no hardware component has: elbow (joints: joint1, joint2)" in caplog.text
+
+
+def test_rrbot_joint_limits_under_slash_star_star_reach_the_manager_and_its_own_win() -> None:
+    config = _config({"enforce_command_limits": True,
+                      "joint_limits": {"joint1": {"has_velocity_limits": True, "max_velocity": 0.5}}})
+    config["/**"] = {"ros__parameters": {"joint_limits": {
+        "joint1": {"has_velocity_limits": True, "max_velocity": 0.1},
+        "joint2": {"has_velocity_limits": True, "max_velocity": 0.2}}}}
+    with rw.bringup("rrbot", config, xacro_args={"use_mock_hardware": True}) as system:
+        hard = system.resource_manager.get_hard_joint_limits()
+    assert (hard["joint1"].max_velocity, hard["joint2"].max_velocity) == (0.5, 0.2)
