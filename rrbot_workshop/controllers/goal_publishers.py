@@ -373,10 +373,14 @@ def _trajectory(bus: TopicBus, node: str, p: Mapping[str, Any], namespace: str) 
     limits_given = p.get("starting_point_limits", {}) or {}
     if not isinstance(limits_given, Mapping):
         raise ParameterError(node, "starting_point_limits", "must map each joint to [lower, upper]")
-    for joint in limits_given:
-        if joint not in joints:
-            raise ParameterError(node, f"starting_point_limits.{joint}", f"names no joint of 'joints' {joints}")
-    limits = {j: _number_list(node, f"starting_point_limits.{j}", v) for j, v in limits_given.items()}
+    # Jazzy declares starting_point_limits.<joint> only with check_starting_point, and only for the listed joints:
+    # other entries are never read (the demos' files carry some), so they are ignored here too.
+    limits: dict[str, list[float]] = {}
+    if check:
+        ignored = [j for j in limits_given if j not in joints]
+        if ignored:
+            _log.info("%s: starting_point_limits of %s ignored: not in 'joints' %s", node, ignored, joints)
+        limits = {j: _number_list(node, f"starting_point_limits.{j}", v) for j, v in limits_given.items() if j in joints}
     goals: list[Any] = []
     for name in names:
         spec = p.get(name)
@@ -441,7 +445,7 @@ def goal_publisher_from_parameters(
 
 
 def load_goal_publishers(
-    bus: TopicBus, path: str | Path | None = None, executables: Mapping[str, str] | None = None,
+    bus: TopicBus, path: str | Path | None = None, executables: Mapping[str, str] | None = None, namespace: str = "/",
 ) -> dict[str, GoalPublisher]:
     """Build the publishers of a goal publisher parameter file (ROS layout, one section per node).
 
@@ -454,6 +458,7 @@ def load_goal_publishers(
         path: The YAML file; default :func:`default_config_path`.
         executables: Section key -> executable, for nodes renamed in a launch file; otherwise guessed (see
             :func:`goal_publisher_from_parameters`).
+        namespace: Namespace of the nodes whose key has none (a launch file's ``namespace=``).
 
     Raises:
         ParameterError: If the file is missing, not in the ``<node>: ros__parameters:`` layout, or a parameter is
@@ -477,8 +482,8 @@ def load_goal_publishers(
             continue
         if not isinstance(body, Mapping) or not isinstance(body.get("ros__parameters"), Mapping):
             raise ParameterError(str(key), "ros__parameters", f"missing in {source}")
-        namespace, _, node = str(key).rpartition("/")
+        key_namespace, _, node = str(key).rpartition("/")
         params = {**common, **body["ros__parameters"]}
         kind = (executables or {}).get(str(key))
-        out[str(key)] = goal_publisher_from_parameters(bus, node, params, kind, namespace or "/")
+        out[str(key)] = goal_publisher_from_parameters(bus, node, params, kind, key_namespace or namespace)
     return out

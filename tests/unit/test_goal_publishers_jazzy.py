@@ -128,12 +128,22 @@ def test_trajectory_runs_a_jtc_on_mock_hardware() -> None:
      "check_starting_point"),
     ({"joints": ["j1"], "goal_names": ["a"], "a": {"positions": [1.0]}, "check_starting_point": True,
       "starting_point_limits": {"j1": [0.0]}}, r"starting_point_limits\.j1"),
-    ({"joints": ["j1"], "goal_names": ["a"], "a": {"positions": [1.0]}, "starting_point_limits": {"j9": [0, 1]}},
-     r"starting_point_limits\.j9"),
 ])
 def test_trajectory_bad_parameters_are_refused_by_name(params: dict, named: str) -> None:
     with pytest.raises(ParameterError, match=named):
         goal_publisher_from_parameters(TopicBus(), "publisher_joint_trajectory_controller", params)
+
+
+def test_limits_jazzy_never_reads_are_ignored() -> None:
+    """Without check_starting_point, or for a joint not in 'joints', Jazzy declares no limit: nothing to refuse."""
+    base = {"joints": ["j1"], "goal_names": ["a"], "a": {"positions": [1.0]}}
+    pub = goal_publisher_from_parameters(TopicBus(), "p", {**base, "starting_point_limits": {"j1": [0.0], "j9": [0, 1]}},
+                                         "publisher_joint_trajectory_controller")
+    assert not pub.check_starting_point
+    pub = goal_publisher_from_parameters(TopicBus(), "p", {**base, "check_starting_point": True,
+                                                           "starting_point_limits": {"j9": [0, 1]}},
+                                         "publisher_joint_trajectory_controller")
+    assert pub.starting_point_limits == {"j1": [-2 * 3.14159, 2 * 3.14159]}
 
 
 # ----------------------------------------------------------------------------- the file
@@ -145,6 +155,14 @@ def test_namespaced_sections_resolve_relative_topics_in_their_namespace() -> Non
     # the trajectory topic is absolute in Jazzy: '/' + controller_name + '/joint_trajectory'
     assert pubs["/arm_b/publisher_joint_trajectory_controller"].topic == \
         "/arm_b/position_trajectory_controller/joint_trajectory"
+
+
+def test_a_launch_namespace_applies_to_plain_keys(tmp_path: Path) -> None:
+    path = tmp_path / "plain.yaml"
+    path.write_text("publisher_forward_position_controller:\n  ros__parameters:\n"
+                    "    publish_topic: forward_position_controller/commands\n    goal_names: [a]\n    a: [1.0]\n")
+    pub = load_goal_publishers(TopicBus(), path, namespace="/rrbot")["publisher_forward_position_controller"]
+    assert pub.topic == "/rrbot/forward_position_controller/commands"
 
 
 def test_a_renamed_node_takes_its_executable(tmp_path: Path) -> None:
