@@ -4,8 +4,11 @@
 
 A controller that claims another's reference interfaces updates before it (it writes the
 references the other reads in the same cycle); a controller that reads another's exported state
-interfaces updates after it. Controllers that use each other's interfaces, in either direction,
-form a chain group, which fails and stops together.
+interfaces updates after it, unless it also claims that controller's references (a diff drive that
+commands wheel PIDs and reads the velocities they export): the claim wins and the state read is the
+previous cycle's. Controllers that use each other's interfaces, in either direction, form a chain
+group, which fails and stops together. Only a true loop (A claims B's references and B claims A's,
+possibly through others; or states read round in a circle) is reported as a chaining loop.
 """
 
 from __future__ import annotations
@@ -79,16 +82,21 @@ class ChainGraph:
         if not rm.has_controller_exports():  # nothing chains: load order, without asking every controller
             return names
         before: dict[str, set[str]] = {n: set() for n in names}  # n -> controllers that must run before n
+        claims: set[tuple[str, str]] = set()  # (preceding, following): the first claims the second's references
         for name in names:
-            spec = controllers[name]
-            for itf in required(spec, "command"):
+            for itf in required(controllers[name], "command"):
                 owner = rm.controller_of_interface(itf)
                 if owner in before and owner != name:
                     before[owner].add(name)  # name claims owner's reference: name runs first
-            for itf in required(spec, "state"):
+                    claims.add((name, owner))
+        for name in names:
+            for itf in required(controllers[name], "state"):
                 owner = rm.controller_of_interface(itf)
-                if owner in before and owner != name:
-                    before[name].add(owner)  # name reads owner's exported state: owner runs first
+                # name reads owner's exported state: owner runs first, unless name also claims owner's references.
+                # Then the claim sets the order and the state is the one owner exported last cycle (a diff drive
+                # over wheel PIDs reads their velocities: Jazzy's chain puts the diff drive first).
+                if owner in before and owner != name and (name, owner) not in claims:
+                    before[name].add(owner)
         # Kahn's algorithm; of the controllers that may run next, the one loaded first (a heap on the load index)
         index = {n: k for k, n in enumerate(names)}
         waiting = {n: len(before[n]) for n in names}

@@ -56,6 +56,11 @@ _BUILTIN: dict[str, dict[str, str]] = {
             "rrbot_workshop.controllers.displacement:DisplacementController",
         # the library's reference under its own name, never re-mapped to a learner's file (notebook 08's fallback)
         "rrbot_workshop/DisplacementController": "rrbot_workshop.controllers.displacement:DisplacementController",
+        # the chainable pass-through of ros2_control_demos' example 12 (its name there), and under the library's own
+        "passthrough_controller/PassthroughController": "rrbot_workshop.controllers.passthrough:PassthroughController",
+        "rrbot_workshop/PassthroughController": "rrbot_workshop.controllers.passthrough:PassthroughController",
+        "bicycle_steering_controller/BicycleSteeringController":
+            "rrbot_workshop.controllers.bicycle_steering:BicycleSteeringController",
     },
 }
 
