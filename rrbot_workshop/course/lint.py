@@ -356,7 +356,8 @@ class _Linter:
         if sections is not None:
             layout = read_layout(sections)
             self.single = len(layout.managers) == 1 and layout.managers[0].namespace == "/"
-            urdf, infos = None, []
+            urdf: str | None = None
+            infos: list[Any] = []
             if description is not None:
                 urdf, infos, problems = parse_description(description, xacro_args, package_path)
                 self.findings.extend(Finding(level, str(description), 0, where, message)
@@ -401,22 +402,30 @@ class _Linter:
                            f"'{controller.name}.{key}' is a parameter of the controller manager, not of controller "
                            f"'{controller.name}': give it in the controller's own section "
                            f"('{controller.name}: ros__parameters: {key}: ...')")
-            interfaces = self.check_controller(controller, rate, urdf)
+            interfaces = self.check_controller(controller, rate, urdf, label)
             if interfaces is not None:
                 exports[controller.name] = interfaces
         if urdf is not None:
             self.interface_findings(manager, description, infos, exports)
 
-    def check_controller(self, controller: Controller, rate: Any, urdf: str | None) -> _Interfaces | None:
+    def check_controller(self, controller: Controller, rate: Any, urdf: str | None,
+                         manager_label: str) -> _Interfaces | None:
         report = self.reporter(controller)
+        section, keys = controller.type_sections[-1]  # the type that counts: the spawner's, else the manager's
+        type_line = self.lines.find(*section.path, "ros__parameters", *keys)
+        type_where = f"{manager_label}.{controller.name}.type" if len(keys) > 1 else f"{self.label(controller)}.type"
+
+        def report_type(level: str, message: str) -> None:
+            self.add(level, type_line, type_where, message)
+
         types = list(dict.fromkeys(str(t) for s, k in controller.type_sections
                                    for t in [_get(s.params, k)] if t is not None))
         ctype = controller.type
         if len(types) > 1:
-            report("warning", "type", f"two types are given for '{controller.name}' ({', '.join(types)}); the "
+            report_type("warning", f"two types are given for '{controller.name}' ({', '.join(types)}); the "
                                       f"spawner sets the one of the controller's own section, '{ctype}'")
         if not isinstance(ctype, str) or "/" not in ctype:
-            report("error", "type", f"'{ctype}' is not a plugin type string such as 'package/ClassName'")
+            report_type("error", f"'{ctype}' is not a plugin type string such as 'package/ClassName'")
             return None
         if unresolved(ctype):
             return None
@@ -424,26 +433,26 @@ class _Linter:
             try:
                 cls = plugins.resolve("controller", ctype)
             except PluginNotFound:
-                report("error", "type",
+                report_type("error",
                        f"unknown controller type '{ctype}': no controller of that type is available here"
                        f"{closest(ctype, plugins.available('controller'))}")
                 return None
             except RRBotWorkshopError as exc:
-                report("error", "type", f"type '{ctype}' cannot be loaded: {exc}")
+                report_type("error", f"type '{ctype}' cannot be loaded: {exc}")
                 return None
         for record in log.records:
-            report("warning", "type", f"'{ctype}' resolves to your unfinished exercise: {record.getMessage()}")
+            report_type("warning", f"'{ctype}' resolves to your unfinished exercise: {record.getMessage()}")
         learner = _learner_file(cls)
         try:
-            return self.check_class(controller, ctype, cls, rate, urdf, report)
+            return self.check_class(controller, ctype, cls, rate, urdf, report, report_type)
         except Exception as exc:  # noqa: BLE001 - a class that fails is a finding, never a traceback
             if learner is None:
                 raise
-            report("error", "type", f"'{ctype}' resolves to your unfinished {learner}: {_reason(exc)}")
+            report_type("error", f"'{ctype}' resolves to your unfinished {learner}: {_reason(exc)}")
             return None
 
     def check_class(self, controller: Controller, ctype: str, cls: Any, rate: Any, urdf: str | None,
-                    report: Any) -> _Interfaces | None:
+                    report: Any, report_type: Any) -> _Interfaces | None:
         values = controller.parameters()
         flat = flatten(values)
         skip = {k for k, v in flat.items() if unresolved(v)}
@@ -473,7 +482,7 @@ class _Linter:
             if problems:
                 record = problems[0]
                 reason = _reason(record.exc_info[1]) if record.exc_info and record.exc_info[1] else record.getMessage()
-                report("error", "type", f"'{ctype}' resolves to your unfinished {learner}: {reason}")
+                report_type("error", f"'{ctype}' resolves to your unfinished {learner}: {reason}")
                 return None
         return interfaces if urdf is not None else None
 

@@ -268,7 +268,7 @@ def read_layout(sections: list[Section]) -> Layout:
                 for section in typed:
                     entry.type = section.params["type"]
                     entry.type_sections.append((section, ("type",)))
-            for name, entry in manager.controllers.items():
+            for entry in manager.controllers.values():
                 entry.sections = [s for s in sections if key_matches(s.key, entry.fqn)]
                 claimed.update(id(s) for s in entry.specific_sections())
             if named or manager.controllers:
