@@ -467,23 +467,29 @@ class _Linter:
         if (urdf is None and learner is None) or skip:
             return None
         values.pop("type", None)
+        failure: Exception | None = None
         with _captured("rrbot_workshop") as log:
             try:
                 interfaces = _controller_interfaces(cls, controller.name, values, urdf or "",
                                                     rate if isinstance(rate, int) and rate > 0 else 100)
-            except RRBotWorkshopError as exc:
-                if learner is not None:
+            except Exception as exc:  # noqa: BLE001 - a learner's class may raise anything
+                if learner is None and not isinstance(exc, RRBotWorkshopError):
                     raise
-                if not failed:
-                    report("error", "", f"cannot be configured with these parameters: {exc}")
-                return None
+                failure = exc
         if learner is not None:
             problems = [r for r in log.records if r.exc_info or r.levelno >= logging.ERROR]
-            if problems:
-                record = problems[0]
-                reason = _reason(record.exc_info[1]) if record.exc_info and record.exc_info[1] else record.getMessage()
+            if problems or failure is not None:
+                first = problems[0] if problems else None
+                if first is not None and first.exc_info and first.exc_info[1] is not None:
+                    reason = _reason(first.exc_info[1])
+                else:
+                    reason = first.getMessage() if first is not None else _reason(failure)  # type: ignore[arg-type]
                 report_type("error", f"'{ctype}' resolves to your unfinished {learner}: {reason}")
                 return None
+        if failure is not None:
+            if not failed:
+                report("error", "", f"cannot be configured with these parameters: {failure}")
+            return None
         return interfaces if urdf is not None else None
 
     def interface_findings(self, manager: Manager, description: str, infos: Sequence[Any],
@@ -491,18 +497,20 @@ class _Linter:
         commands, states = _hardware_interfaces(infos)
         references = {ref for itf in exports.values() for ref in itf.references}
         exported = {state for itf in exports.values() for state in itf.exported_states}
+        # a controller that could not be configured exports nothing known: what others take from it is not judged
+        unknown = tuple(f"{name}/" for name in manager.controllers if name not in exports)
         for name, itf in exports.items():
             controller = manager.controllers[name]
             sections = controller.specific_sections() or controller.sections
             line = self.lines.find(*sections[0].path) if sections else 0
             label = self.label(controller)
             for item in itf.commands:
-                if item not in commands and item not in references:
+                if item not in commands and item not in references and not item.startswith(unknown):
                     self.add("error", line, label,
                              f"claims command interface '{item}', which {description} does not declare and no "
                              f"chainable controller exports{closest(item, commands | references)}")
             for item in itf.states:
-                if item not in states and item not in exported:
+                if item not in states and item not in exported and not item.startswith(unknown):
                     self.add("error", line, label,
                              f"reads state interface '{item}', which {description} does not declare and no "
                              f"chainable controller exports{closest(item, states | exported)}")
