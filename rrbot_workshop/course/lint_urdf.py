@@ -12,6 +12,7 @@ wired in one spot.
 
 from __future__ import annotations
 
+import importlib
 import os
 import xml.etree.ElementTree as ET
 from collections.abc import Mapping, Sequence
@@ -33,15 +34,27 @@ RENAMED_PARAMS = {"fake_sensor_commands": "mock_sensor_commands", "fake_gpio_com
 
 
 def _expand(description: str | Path, xacro_args: Mapping[str, Any], package_path: Sequence[str | Path]) -> str:
-    """URDF text of ``description``, with ``package_path`` searched for ``$(find pkg)`` and ``package://``.
+    """URDF text of ``description``, with ``package_path`` searched first for ``$(find pkg)`` and ``package://``.
 
-    The folders are put in front of ``$RRBOT_WORKSHOP_PACKAGE_PATH`` while the file expands, which is where
-    package lookup looks (an empty ``package_path`` leaves the environment as it is).
+    The one place lint hands its package path to package lookup: through
+    ``rrbot_workshop.bringup.packages.use_package_path`` where the library has it, else by putting the folders in
+    front of ``$RRBOT_WORKSHOP_PACKAGE_PATH`` while the file expands. An empty ``package_path`` changes nothing.
+
+    Raises:
+        DescriptionError: If the file cannot be expanded (a folder of ``package_path`` that does not exist too).
     """
     from rrbot_workshop.description import process_xacro
 
     if not package_path:
         return process_xacro(description, **xacro_args)
+    try:
+        packages: Any = importlib.import_module("rrbot_workshop.bringup.packages")
+    except ImportError:
+        packages = None
+    use_package_path = getattr(packages, "use_package_path", None)
+    if use_package_path is not None:
+        with use_package_path([str(p) for p in package_path]):
+            return process_xacro(description, **xacro_args)
     before = os.environ.get(PACKAGE_PATH_ENV)
     os.environ[PACKAGE_PATH_ENV] = os.pathsep.join([*(str(p) for p in package_path), *([before] if before else [])])
     try:
