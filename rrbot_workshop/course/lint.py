@@ -24,20 +24,27 @@ all at once instead of one at a time at bringup:
 
 from __future__ import annotations
 
-import contextlib
-import inspect
 import logging
-import sys
-from collections.abc import Iterator, Mapping, Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 import yaml
 
+from rrbot_workshop.course.lint_classes import (
+    Interfaces,
+    captured,
+    controller_interfaces,
+    hardware_interfaces,
+    learner_file,
+    quiet,
+    reason,
+)
 from rrbot_workshop.course.lint_layout import (
     MANAGER_ENTRY_KEYS,
     Controller,
+    KeyLines,
     Manager,
     Section,
     read_layout,
@@ -59,10 +66,6 @@ from rrbot_workshop.middleware.params import ParameterSchema, flatten
 from rrbot_workshop.middleware.text_files import MAX_DEPTH, SAFE_LOADER, nesting_depth, paused_gc, read_text
 
 __all__ = ["Finding", "CONTROLLER_MANAGER_PARAMETERS", "lint_controllers", "lint_description", "format_findings"]
-
-#: Module names the course tracks give a learner's file when they load it (rrbot_workshop.course.tracks).
-_LEARNER_MODULE_PREFIX = "rrbot_workshop_track_"
-
 
 @dataclass(frozen=True)
 class Finding:
@@ -88,162 +91,6 @@ class Finding:
         return f"{self.source}{line}: {self.level}: {self.where}: {self.message}"
 
 
-class _Lines:
-    """Line numbers of the keys of a YAML document, by path of keys."""
-
-    def __init__(self, text: str) -> None:
-        self._text = text
-        self._lines: dict[tuple[str, ...], int] = {}
-        self._nodes: dict[str, str] = {}  # node name -> its first top-level key (an index: lookups stay O(1))
-        self._built = False
-
-    def _build(self) -> None:
-        """Compose the document once, when the first finding needs a line (a clean file never pays for it)."""
-        self._built = True
-        try:
-            with paused_gc():
-                node = yaml.compose(self._text, Loader=SAFE_LOADER)
-        except (yaml.YAMLError, RecursionError):
-            node = None
-        if node is not None:
-            self._walk(node, ())
-        for key in self._lines:
-            if len(key) == 1:
-                self._nodes.setdefault(key[0].strip("/").split("/")[-1], key[0])
-
-    def _walk(self, node: yaml.Node, path: tuple[str, ...]) -> None:
-        stack = [(node, path)]  # iterative: a deep file must not exhaust Python's recursion
-        while stack:
-            current, prefix = stack.pop()
-            if isinstance(current, yaml.MappingNode):
-                for key, value in reversed(current.value):
-                    child = (*prefix, str(key.value))
-                    self._lines.setdefault(child, key.start_mark.line + 1)
-                    stack.append((value, child))
-
-    def find(self, *path: str) -> int:
-        """Line of the deepest key of ``path`` that exists (0 if none)."""
-        if not self._built:
-            self._build()
-        for end in range(len(path), 0, -1):
-            if path[:end] in self._lines:
-                return self._lines[path[:end]]
-        return 0
-
-    def exact(self, *path: str) -> int:
-        """Line of the key ``path`` (0 if it is not in the file)."""
-        if not self._built:
-            self._build()
-        return self._lines.get(path, 0)
-
-    def node_key(self, name: str) -> str | None:
-        """The top-level key naming node ``name`` (``name``, ``/name`` or ``/**/name``)."""
-        if not self._built:
-            self._build()
-        return self._nodes.get(name)
-
-
-class _Interfaces:
-    """What one controller asks for and exports once configured (names ``<prefix>/<interface>``)."""
-
-    def __init__(self) -> None:
-        self.commands: list[str] = []
-        self.states: list[str] = []
-        self.references: list[str] = []
-        self.exported_states: list[str] = []
-
-
-def _hardware_interfaces(infos: Sequence[Any]) -> tuple[set[str], set[str]]:
-    commands: set[str] = set()
-    states: set[str] = set()
-    for info in infos:
-        for component in [*info.joints, *info.sensors, *info.gpios]:
-            commands.update(f"{component.name}/{i.name}" for i in component.command_interfaces)
-            states.update(f"{component.name}/{i.name}" for i in component.state_interfaces)
-    return commands, states
-
-
-def _controller_interfaces(cls: Any, name: str, values: Mapping[str, Any], urdf: str, rate: int) -> _Interfaces:
-    """Configure a controller of ``cls`` as Jazzy would, and read its interface configuration and exports."""
-    from rrbot_workshop.controller_interface.base import ChainableControllerInterface, InterfaceConfigurationType
-    from rrbot_workshop.testing import ControllerHarness
-
-    controller = cls()
-    harness = ControllerHarness(controller, name, values, state_values={}, command_values={},
-                                update_rate=rate, robot_description=urdf)
-    harness.configure()
-
-    def names(config: Any) -> list[str]:
-        if config is None or config.type is not InterfaceConfigurationType.INDIVIDUAL:
-            return []
-        return list(config.names)
-
-    out = _Interfaces()
-    out.commands = names(controller.command_interface_configuration())
-    out.states = names(controller.state_interface_configuration())
-    if isinstance(controller, ChainableControllerInterface):
-        out.references = [handle.name for handle in controller.export_reference_interfaces()]
-        out.exported_states = [handle.name for handle in controller.export_state_interfaces()]
-    return out
-
-
-@contextlib.contextmanager
-def _quiet() -> Iterator[None]:
-    """The library logs what it ignores while the checks run; the findings say it instead."""
-    logger = logging.getLogger("rrbot_workshop")
-    level = logger.level
-    logger.setLevel(logging.CRITICAL)
-    try:
-        yield
-    finally:
-        logger.setLevel(level)
-
-
-class _Collect(logging.Handler):
-    def __init__(self) -> None:
-        super().__init__(logging.WARNING)
-        self.records: list[logging.LogRecord] = []
-
-    def emit(self, record: logging.LogRecord) -> None:
-        self.records.append(record)
-
-
-@contextlib.contextmanager
-def _captured(name: str) -> Iterator[_Collect]:
-    """The warnings and errors logger ``name`` logs meanwhile (not printed)."""
-    logger = logging.getLogger(name)
-    handler = _Collect()
-    level, propagate = logger.level, logger.propagate
-    logger.setLevel(logging.WARNING)
-    logger.propagate = False
-    logger.addHandler(handler)
-    try:
-        yield handler
-    finally:
-        logger.removeHandler(handler)
-        logger.setLevel(level)
-        logger.propagate = propagate
-
-
-def _learner_file(cls: Any) -> str | None:
-    """The learner's file ``cls`` was loaded from by a course track, or None for the library's own classes."""
-    module = getattr(cls, "__module__", "") or ""
-    if not module.startswith(_LEARNER_MODULE_PREFIX):
-        return None
-    try:
-        path = Path(inspect.getfile(sys.modules[module]))
-    except (KeyError, TypeError):
-        return module
-    with contextlib.suppress(ValueError):
-        return str(path.relative_to(Path.cwd()))
-    return str(path)
-
-
-def _reason(exc: BaseException) -> str:
-    text = str(exc)
-    return f"{type(exc).__name__}: {text}" if text else type(exc).__name__
-
-
 def lint_controllers(path: str | Path, description: str | Path | None = None,
                      xacro_args: Mapping[str, Any] | None = None, launch_args: Mapping[str, str] | None = None,
                      package_path: Sequence[str | Path] = ()) -> list[Finding]:
@@ -261,7 +108,7 @@ def lint_controllers(path: str | Path, description: str | Path | None = None,
     Returns:
         Every finding (errors, warnings, notes), in file order.
     """
-    with _quiet():
+    with quiet():
         return _Linter(str(path), launch_args or {}).run(path, description, xacro_args or {}, package_path)
 
 
@@ -272,7 +119,7 @@ class _Linter:
         self.source = source
         self.launch_args = launch_args
         self.findings: list[Finding] = []
-        self.lines: _Lines = _Lines("")
+        self.lines: KeyLines = KeyLines("")
         self.single = True  # one manager at the root: findings name controllers without their namespace
 
     def add(self, level: str, line: int, where: str, message: str) -> None:
@@ -315,7 +162,7 @@ class _Linter:
         if not isinstance(data, Mapping):
             self.add("error", 0, "file", "must be a mapping of node names to 'ros__parameters'")
             return None
-        self.lines = _Lines(text)
+        self.lines = KeyLines(text)
         sections, problems = read_sections(data)
         for keys, message in problems:
             self.add("error", self.lines.find(*keys), ".".join(keys), message)
@@ -394,7 +241,7 @@ class _Linter:
             params.update({k: v for k, v in section.params.items() if k not in manager.controllers})
         manager_findings(params, report)
         rate = manager.parameters().get("update_rate", 100)
-        exports: dict[str, _Interfaces] = {}
+        exports: dict[str, Interfaces] = {}
         for controller in manager.controllers.values():
             for key in controller.manager_entry:
                 if key not in MANAGER_ENTRY_KEYS:
@@ -409,7 +256,7 @@ class _Linter:
             self.interface_findings(manager, description, infos, exports)
 
     def check_controller(self, controller: Controller, rate: Any, urdf: str | None,
-                         manager_label: str) -> _Interfaces | None:
+                         manager_label: str) -> Interfaces | None:
         report = self.reporter(controller)
         section, keys = controller.type_sections[-1]  # the type that counts: the spawner's, else the manager's
         type_line = self.lines.find(*section.path, "ros__parameters", *keys)
@@ -429,7 +276,7 @@ class _Linter:
             return None
         if unresolved(ctype):
             return None
-        with _captured("rrbot_workshop.course.tracks") as log:
+        with captured("rrbot_workshop.course.tracks") as log:
             try:
                 cls = plugins.resolve("controller", ctype)
             except PluginNotFound:
@@ -442,17 +289,17 @@ class _Linter:
                 return None
         for record in log.records:
             report_type("warning", f"'{ctype}' resolves to your unfinished exercise: {record.getMessage()}")
-        learner = _learner_file(cls)
+        learner = learner_file(cls)
         try:
             return self.check_class(controller, ctype, cls, rate, urdf, report, report_type)
         except Exception as exc:  # noqa: BLE001 - a class that fails is a finding, never a traceback
             if learner is None:
                 raise
-            report_type("error", f"'{ctype}' resolves to your unfinished {learner}: {_reason(exc)}")
+            report_type("error", f"'{ctype}' resolves to your unfinished {learner}: {reason(exc)}")
             return None
 
     def check_class(self, controller: Controller, ctype: str, cls: Any, rate: Any, urdf: str | None,
-                    report: Any, report_type: Any) -> _Interfaces | None:
+                    report: Any, report_type: Any) -> Interfaces | None:
         values = controller.parameters()
         flat = flatten(values)
         skip = {k for k, v in flat.items() if unresolved(v)}
@@ -463,14 +310,14 @@ class _Linter:
         if schema_text:
             check_parameters(controller.name, ctype, ParameterSchema(schema_text), values, report, shared, skip)
         failed = sum(f.level == "error" for f in self.findings) > errors_before
-        learner = _learner_file(cls)
+        learner = learner_file(cls)
         if (urdf is None and learner is None) or skip:
             return None
         values.pop("type", None)
         failure: Exception | None = None
-        with _captured("rrbot_workshop") as log:
+        with captured("rrbot_workshop") as log:
             try:
-                interfaces = _controller_interfaces(cls, controller.name, values, urdf or "",
+                interfaces = controller_interfaces(cls, controller.name, values, urdf or "",
                                                     rate if isinstance(rate, int) and rate > 0 else 100)
             except Exception as exc:  # noqa: BLE001 - a learner's class may raise anything
                 if learner is None and not isinstance(exc, RRBotWorkshopError):
@@ -481,10 +328,10 @@ class _Linter:
             if problems or failure is not None:
                 first = problems[0] if problems else None
                 if first is not None and first.exc_info and first.exc_info[1] is not None:
-                    reason = _reason(first.exc_info[1])
+                    why = reason(first.exc_info[1])
                 else:
-                    reason = first.getMessage() if first is not None else _reason(failure)  # type: ignore[arg-type]
-                report_type("error", f"'{ctype}' resolves to your unfinished {learner}: {reason}")
+                    why = first.getMessage() if first is not None else reason(failure)  # type: ignore[arg-type]
+                report_type("error", f"'{ctype}' resolves to your unfinished {learner}: {why}")
                 return None
         if failure is not None:
             if not failed:
@@ -493,8 +340,8 @@ class _Linter:
         return interfaces if urdf is not None else None
 
     def interface_findings(self, manager: Manager, description: str, infos: Sequence[Any],
-                           exports: Mapping[str, _Interfaces]) -> None:
-        commands, states = _hardware_interfaces(infos)
+                           exports: Mapping[str, Interfaces]) -> None:
+        commands, states = hardware_interfaces(infos)
         references = {ref for itf in exports.values() for ref in itf.references}
         exported = {state for itf in exports.values() for state in itf.exported_states}
         # a controller that could not be configured exports nothing known: what others take from it is not judged
@@ -534,7 +381,7 @@ def lint_description(path: str | Path, xacro_args: Mapping[str, Any] | None = No
         xacro_args: Arguments for the xacro file.
         package_path: Folders searched for the packages the file names (``$(find pkg)``, ``package://``).
     """
-    with _quiet():
+    with quiet():
         problems = parse_description(path, xacro_args or {}, package_path)[2]
     return [Finding(level, str(path), 0, where, message) for level, where, message in problems]
 

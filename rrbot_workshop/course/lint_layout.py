@@ -22,7 +22,11 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
-__all__ = ["Section", "Controller", "Manager", "Layout", "substitute", "key_matches", "read_layout",
+import yaml
+
+from rrbot_workshop.middleware.text_files import SAFE_LOADER, paused_gc
+
+__all__ = ["KeyLines", "Section", "Controller", "Manager", "Layout", "substitute", "key_matches", "read_layout",
            "MANAGER_ENTRY_KEYS"]
 
 #: ``$(var name)`` as ros2 launch writes a launch configuration in a substituted file.
@@ -276,3 +280,48 @@ def read_layout(sections: list[Section]) -> Layout:
                 claimed.update(id(s) for s in manager.sections if not s.wildcard_name)
     unclaimed = [s for s in sections if id(s) not in claimed and not s.wildcard_name]
     return Layout(sections, managers, unclaimed)
+
+
+class KeyLines:
+    """Line numbers of the keys of a YAML document, by path of keys."""
+
+    def __init__(self, text: str) -> None:
+        self._text = text
+        self._lines: dict[tuple[str, ...], int] = {}
+        self._built = False
+
+    def _build(self) -> None:
+        """Compose the document once, when the first finding needs a line (a clean file never pays for it)."""
+        self._built = True
+        try:
+            with paused_gc():
+                node = yaml.compose(self._text, Loader=SAFE_LOADER)
+        except (yaml.YAMLError, RecursionError):
+            node = None
+        if node is not None:
+            self._walk(node, ())
+
+    def _walk(self, node: yaml.Node, path: tuple[str, ...]) -> None:
+        stack = [(node, path)]  # iterative: a deep file must not exhaust Python's recursion
+        while stack:
+            current, prefix = stack.pop()
+            if isinstance(current, yaml.MappingNode):
+                for key, value in reversed(current.value):
+                    child = (*prefix, str(key.value))
+                    self._lines.setdefault(child, key.start_mark.line + 1)
+                    stack.append((value, child))
+
+    def find(self, *path: str) -> int:
+        """Line of the deepest key of ``path`` that exists (0 if none)."""
+        if not self._built:
+            self._build()
+        for end in range(len(path), 0, -1):
+            if path[:end] in self._lines:
+                return self._lines[path[:end]]
+        return 0
+
+    def exact(self, *path: str) -> int:
+        """Line of the key ``path`` (0 if it is not in the file)."""
+        if not self._built:
+            self._build()
+        return self._lines.get(path, 0)
