@@ -24,6 +24,7 @@ all at once instead of one at a time at bringup:
 
 from __future__ import annotations
 
+import contextlib
 import logging
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
@@ -216,6 +217,8 @@ class _Linter:
                 manager_key = "/".join(layout.managers[0].sections[0].path) if layout.managers[0].sections \
                     else "controller_manager"
                 for section in layout.unclaimed:
+                    if not (closest(section.name, names) or _controller_like(section.params)):
+                        continue  # another node's parameters (a publisher, robot_state_publisher): not lint's business
                     self.add("warning", self.lines.find(*section.path), section.key,
                              f"parameters for '{section.key}', but no controller manager of this file has a controller "
                              f"of that name with a 'type' (in '{manager_key}' or in the section itself)"
@@ -238,7 +241,8 @@ class _Linter:
 
         params = {}
         for section in own:
-            params.update({k: v for k, v in section.params.items() if k not in manager.controllers})
+            params.update({k: v for k, v in section.params.items() if k not in manager.controllers
+                           and not (isinstance(v, Mapping) and v and set(v) <= set(MANAGER_ENTRY_KEYS))})
         manager_findings(params, report)
         rate = manager.parameters().get("update_rate", 100)
         exports: dict[str, Interfaces] = {}
@@ -361,6 +365,23 @@ class _Linter:
                     self.add("error", line, label,
                              f"reads state interface '{item}', which {description} does not declare and no "
                              f"chainable controller exports{closest(item, states | exported)}")
+
+
+def _controller_like(params: Mapping[str, Any]) -> bool:
+    """Whether a section gives a parameter that some controller type declares (``joints``, ``interface_name``...)."""
+    global _DECLARED_TOP_LEVEL
+    if _DECLARED_TOP_LEVEL is None:
+        names: set[str] = set()
+        for ctype in plugins.available("controller"):
+            with contextlib.suppress(Exception):  # a type that does not load has nothing to offer here
+                text = getattr(plugins.resolve("controller", ctype), "PARAMETERS", None)
+                if text:
+                    names.update(d.path[0] for d in ParameterSchema(text).declarations)
+        _DECLARED_TOP_LEVEL = frozenset(names)
+    return any(str(key) in _DECLARED_TOP_LEVEL for key in params)
+
+
+_DECLARED_TOP_LEVEL: frozenset[str] | None = None
 
 
 def _get(params: Mapping[str, Any], keys: tuple[str, ...]) -> Any:
