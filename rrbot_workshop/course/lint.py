@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import contextlib
 import logging
+import re
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -135,7 +136,8 @@ class _Linter:
             return None
         text, missing = substitute(text, self.launch_args)
         for name in missing:
-            line = next((i for i, row in enumerate(text.splitlines(), 1) if f"var {name}" in row), 0)
+            use = re.compile(r"\$\(\s*var\s+" + re.escape(name) + r"\s*\)")
+            line = next((i for i, row in enumerate(text.splitlines(), 1) if use.search(row)), 0)
             self.add("error", line, f"$(var {name})",
                      f"the launch argument '{name}' has no value here; give it as the launch file would "
                      f"(--arg {name}:=VALUE, or launch_args={{'{name}': ...}}). Values that use it are not checked")
