@@ -276,7 +276,7 @@ class _Linter:
         ctype = controller.type
         if len(types) > 1:
             report_type("warning", f"two types are given for '{controller.name}' ({', '.join(types)}); the "
-                                      f"spawner sets the one of the controller's own section, '{ctype}'")
+                                   f"spawner sets the one of the controller's own section, '{ctype}'")
         if not isinstance(ctype, str) or "/" not in ctype:
             report_type("error", f"'{ctype}' is not a plugin type string such as 'package/ClassName'")
             return None
@@ -286,9 +286,8 @@ class _Linter:
             try:
                 cls = plugins.resolve("controller", ctype)
             except PluginNotFound:
-                report_type("error",
-                       f"unknown controller type '{ctype}': no controller of that type is available here"
-                       f"{closest(ctype, plugins.available('controller'))}")
+                report_type("error", f"unknown controller type '{ctype}': no controller of that type is available "
+                                     f"here{closest(ctype, plugins.available('controller'))}")
                 return None
             except RRBotWorkshopError as exc:
                 report_type("error", f"type '{ctype}' cannot be loaded: {exc}")
