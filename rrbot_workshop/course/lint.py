@@ -177,25 +177,37 @@ class _Linter:
             return controller
         return controller.fqn.rsplit("/", 1)[-1] if self.single else controller.fqn
 
-    def line_of(self, sections: Sequence[Section], key: str) -> int:
-        """Line of ``key`` (dotted) in the last of ``sections`` that gives it, else of the first section."""
+    def section_of(self, sections: Sequence[Section], key: str) -> Section | None:
+        """The last of ``sections`` that gives ``key`` (dotted), or None."""
         parts = key.split(".") if key else []
         for section in reversed(sections):
             if key and (key in flatten(section.params) or parts[0] in section.params):
-                base = (*section.path, "ros__parameters")
-                for cut in range(len(parts), 0, -1):  # 'linear.x.max_velocity' may be one YAML key or three
-                    line = self.lines.exact(*base, *parts[:cut - 1], ".".join(parts[cut - 1:]))
-                    if line:
-                        return line
-                return self.lines.find(*base, *parts)
-        return self.lines.find(*sections[0].path) if sections else 0
+                return section
+        return None
+
+    def line_of(self, sections: Sequence[Section], key: str) -> int:
+        """Line of ``key`` (dotted) in the last of ``sections`` that gives it, else of the first section."""
+        section = self.section_of(sections, key)
+        if section is None:
+            return self.lines.find(*sections[0].path) if sections else 0
+        parts = key.split(".")
+        base = (*section.path, "ros__parameters")
+        for cut in range(len(parts), 0, -1):  # 'linear.x.max_velocity' may be one YAML key or three
+            line = self.lines.exact(*base, *parts[:cut - 1], ".".join(parts[cut - 1:]))
+            if line:
+                return line
+        return self.lines.find(*base, *parts)
 
     def reporter(self, controller: Controller) -> Any:
         sections = controller.specific_sections() or controller.sections or [s for s, _ in controller.type_sections]
 
         def report(level: str, key: str, message: str) -> None:
+            section = self.section_of(sections, key)
+            # a value from a section every namespace shares ('/**/name') is named by that section's key
+            label = section.key if section is not None and section.namespace is None and not self.single \
+                else self.label(controller)
             line = self.line_of(sections, key) if sections else 0
-            self.add(level, line, ".".join(p for p in (self.label(controller), key) if p), message)
+            self.add(level, line, ".".join(p for p in (label, key) if p), message)
 
         return report
 
