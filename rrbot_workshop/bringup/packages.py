@@ -121,9 +121,14 @@ class InstallRule:
             return None
         return self.source / rest
 
-    def describe(self) -> str:
-        """The rule as a learner reads it: ``install(DIRECTORY description/urdf -> share/<pkg>/urdf)``."""
-        return f"CMakeLists.txt:{self.line} installs {self.source} as share/<pkg>/{self.installed_as}"
+    def describe(self, root: Path, package: str) -> str:
+        """The rule as a learner reads it: ``description/urdf -> share/<pkg>/urdf (CMakeLists.txt:57)``."""
+        try:
+            source = self.source.relative_to(root).as_posix() + ("/" if self.kind == "contents" else "")
+        except ValueError:
+            source = str(self.source)
+        target = PurePosixPath("share", package, self.installed_as).as_posix()
+        return f"{source} -> {target} (CMakeLists.txt:{self.line})"
 
 
 _KEYWORDS = {
@@ -602,7 +607,7 @@ def _not_found(package: Package, relative: str, candidates: Sequence[Path]) -> D
             extra = (f"; {plain} exists in the source tree, but no install(... DESTINATION share/{package.name}...) "
                      "rule of its CMakeLists.txt installs it there, so ROS would not find it either")
         else:
-            rules = "; ".join(r.describe().replace("<pkg>", package.name) for r in package.rules)
+            rules = "; ".join(r.describe(package.path, package.name) for r in package.rules)
             extra = f" (install rules: {rules})"
     return DescriptionError(
         f"file '{relative}' of package '{package.name}' ({package.layout} tree at {package.path}) not found; "

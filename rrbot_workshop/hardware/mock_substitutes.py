@@ -9,9 +9,9 @@ actuator or sensor plugin with the library's own stand-ins, which are *not* in J
 * ``rrbot_workshop/MockActuator``: GenericSystem's mirroring (and its ``<hardware><param>`` options) as an actuator;
   it behaves as GenericSystem would on the same joint.
 * ``rrbot_workshop/MockSensor``: a sensor that exports the declared state interfaces and holds them at their
-  ``initial_value`` (0.0 without one). Differences from GenericSystem: a sensor has no command interfaces in
-  ros2_control, so ``mock_sensor_commands``/``mock_gpio_commands`` cannot make its values settable (they are
-  ignored with a warning), and nothing ever changes its readings.
+  ``initial_value`` (NaN without one, as GenericSystem leaves a sensor state). Differences from GenericSystem: a
+  sensor has no command interfaces in ros2_control, so ``mock_sensor_commands``/``mock_gpio_commands`` cannot make
+  its values settable (they are ignored with a warning), and nothing ever changes its readings.
 
 Both are resolved by their names like any plugin, so a description may name them, but such a description loads in
 this library only; ``bringup`` reports every substitution it made.
