@@ -113,7 +113,8 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def _add_bringup_parser(sub: Any) -> None:
-    """``bringup DESCRIPTION [--controllers YAML] [--package-path DIR]... [--mock-hardware unknown|all] ...``."""
+    """``bringup DESCRIPTION [--controllers YAML] [--package-path DIR]... [--mock-hardware unknown|all]
+    [--arg NAME:=VALUE]... [--spawn NAME]... [--inactive NAME]... [--seconds S]``."""
     up = sub.add_parser("bringup", help="bring a robot up on the simulated clock, spawn controllers, spin, and print "
                                         "its hardware, controllers and joint states")
     up.add_argument("description", metavar="DESCRIPTION",
@@ -131,6 +132,8 @@ def _add_bringup_parser(sub: Any) -> None:
                     help="a xacro argument for the description, as xacro takes it (repeatable)")
     up.add_argument("--spawn", action="append", default=[], metavar="NAME",
                     help="a controller to load, configure and activate (repeatable; all in one strict switch)")
+    up.add_argument("--inactive", action="append", default=[], metavar="NAME",
+                    help="a controller to load and configure only, as the spawner's --inactive (repeatable)")
     up.add_argument("--seconds", type=float, default=1.0, metavar="S",
                     help="simulated seconds to spin after spawning (default 1)")
 
@@ -332,10 +335,11 @@ def _cmd_bringup(args: argparse.Namespace) -> int:
         logging.basicConfig(level=logging.WARNING, format="%(levelname)s %(name)s: %(message)s")
     try:
         system = rw.bringup(args.description, args.controllers, xacro_args=xacro_args, spawn=args.spawn,
-                            package_path=args.package_path, mock_hardware=args.mock_hardware, clock="sim")
-    except RRBotWorkshopError:
-        raise
-    except Exception as exc:  # noqa: BLE001 - a plugin's own bug: one line, not a traceback
+                            inactive=args.inactive, package_path=args.package_path, mock_hardware=args.mock_hardware, clock="sim")
+    except RRBotWorkshopError as exc:  # the whole message: a rejected switch lists its reasons on the next lines
+        print(f"rrbot-workshop: error: {str(exc).strip() or type(exc).__name__}", file=sys.stderr)
+        return USAGE_ERROR
+    except Exception as exc:  # noqa: BLE001 - a plugin's own bug: one message, not a traceback
         raise CourseError("bringup", args.description, f"bringup failed: {type(exc).__name__}: {exc}") from exc
     try:
         system.spin(seconds)
