@@ -57,8 +57,10 @@ def description_to_urdf(description: str | Path, xacro_args: Mapping[str, Any]) 
     return text, package, str(path)
 
 
-def controllers_config(controllers: Any, package: str | None) -> ControllersConfig:
-    """The controllers config from what :func:`~rrbot_workshop.bringup.bringup` was given as ``controllers``."""
+def controllers_config(controllers: Any, package: str | None,
+                       launch_args: Mapping[str, Any] | None = None) -> ControllersConfig:
+    """The controllers config from what :func:`~rrbot_workshop.bringup.bringup` was given as ``controllers``;
+    ``launch_args`` fill a file's or a text's ``$(var name)`` (see :func:`load_controllers_yaml`)."""
     if controllers is None:
         return ControllersConfig()
     if isinstance(controllers, ControllersConfig):
@@ -67,7 +69,7 @@ def controllers_config(controllers: Any, package: str | None) -> ControllersConf
         return load_controllers_yaml(controllers)
     text = str(controllers)
     if "\n" in text:
-        return load_controllers_yaml(text)
+        return load_controllers_yaml(text, launch_args=launch_args)
     path = Path(text)
     if not path.exists() and package is not None and "/" not in text:
         from rrbot_workshop.description import descriptions_root
@@ -82,7 +84,7 @@ def controllers_config(controllers: Any, package: str | None) -> ControllersConf
     if not path.exists():
         raise ParameterError("controllers file", text, "does not exist (give a path, a file name under "
                              "descriptions/<package>/config/, a mapping or YAML text)")
-    return load_controllers_yaml(path)
+    return load_controllers_yaml(path, launch_args=launch_args)
 
 
 def hardware_initial_states(cfg: ControllersConfig, override: Mapping[str, Any] | None) -> dict[str, State]:

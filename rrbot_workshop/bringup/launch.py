@@ -20,7 +20,7 @@ from pathlib import Path
 from typing import Any
 
 from rrbot_workshop.bringup.inputs import controllers_config, description_to_urdf, hardware_initial_states
-from rrbot_workshop.bringup.system import System, register, unique_name
+from rrbot_workshop.bringup.system import System, namespaced, register, shared_graph, unique_name
 from rrbot_workshop.controller_manager.manager import ControllerManager
 from rrbot_workshop.exceptions import ControllerNotFound, ParameterError
 from rrbot_workshop.hardware_interface.resource_manager import ResourceManager
@@ -43,6 +43,9 @@ def bringup(
     clock: str | Clock = "sim",
     hardware_initial_state: Mapping[str, str | State] | None = None,
     name: str | None = None,
+    namespace: str | None = None,
+    launch_args: Mapping[str, Any] | None = None,
+    controller_types: Mapping[str, str] | None = None,
 ) -> System:
     """Build and start a system from a description and a controllers YAML.
 
@@ -58,6 +61,17 @@ def bringup(
         hardware_initial_state: Component name -> ``"unconfigured"``/``"inactive"``/``"active"``;
             overrides ``hardware_components_initial_state`` from the YAML. Unlisted components become active.
         name: System name for ``%control --system``; the robot name (plus a number if taken) by default.
+        namespace: The node namespace of the controller manager and its controllers (``"/rrbot_1"``), as a launch
+            file's ``Node(..., namespace=...)``: the manager is ``/rrbot_1/controller_manager`` (its services too),
+            controllers' topics resolve in it (``/rrbot_1/forward_position_controller/commands``,
+            ``/rrbot_1/joint_states``), and each node takes the YAML sections whose keys match its fully qualified
+            name as ROS 2 matches them (``/**/controller_manager``, ``/rrbot_1/...``). Systems with a namespace
+            share one topic graph, as nodes of one ROS graph do. None: the root namespace, a graph of its own.
+        launch_args: Launch arguments for ``$(var name)`` in the controllers YAML (and in parameter files given to
+            :meth:`System.spawn`), as ``ParameterFile(..., allow_substs=True)`` fills them.
+        controller_types: Controller name or plugin type -> a library controller type to load in its place, with
+            the same parameters (``{"r6bot_controller": "joint_trajectory_controller/JointTrajectoryController"}``
+            lets example 7 run with the JTC standing in for its own controller); a log line says so.
 
     Returns:
         The running :class:`System` (it becomes the "current" one for the magics).
@@ -73,7 +87,8 @@ def bringup(
     from rrbot_workshop.description import parse_ros2_control
 
     urdf, package, source = description_to_urdf(description, xacro_args or {})
-    cfg = controllers_config(controllers, package)
+    args = {str(k): v for k, v in (launch_args or {}).items()}
+    cfg = namespaced(controllers_config(controllers, package, args), namespace)
     infos = parse_ros2_control(urdf, source=source)
     spawn, inactive = list(spawn), list(inactive)
     both = sorted(set(spawn) & set(inactive))
@@ -86,7 +101,10 @@ def bringup(
     the_clock = make_clock(clock, cfg.update_rate)
     rm = ResourceManager(update_rate=cfg.update_rate, initial_states=hardware_initial_states(cfg, hardware_initial_state))
     rm.load_hardware_infos(infos)
-    cm = ControllerManager(rm, TopicBus(), cfg.update_rate, urdf, cfg, the_clock)
+    bus = shared_graph(cfg.manager_name) if cfg.namespace != "/" else TopicBus()
+    cm = ControllerManager(rm, bus, cfg.update_rate, urdf, cfg, the_clock)
+    cm.launch_args = args
+    cm.controller_type_stand_ins.update(controller_types or {})
     name = unique_name(urdf, name)
     system = System(name, urdf, infos, cm, the_clock)
     try:

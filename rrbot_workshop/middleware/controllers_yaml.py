@@ -98,19 +98,93 @@ class ControllersConfig:
     source: str = "<string>"
     namespace: str = "/"
     sections: list[tuple[str, dict[str, Any]]] = field(default_factory=list)
+    param_files: dict[str, list[str]] = field(default_factory=dict)
+    param_file_parameters: dict[str, dict[str, Any]] = field(default_factory=dict)
 
     def parameters_for(self, name: str) -> dict[str, Any]:
         """Parameters of controller ``name`` (a deep copy; empty if none were given).
 
         Every section whose node key matches the controller's fully qualified name (``<namespace>/<name>``) gives
-        its parameters, in file order, a later one winning parameter by parameter, as rclcpp merges them.
+        its parameters, in file order, a later one winning parameter by parameter, as rclcpp merges them. The
+        parameter files given for it at load (:meth:`use_param_file`, the spawner's ``--param-file``) come last and
+        win, as the files a controller node is started with override the global ones.
         """
         fqn = fully_qualified(self.namespace, name)
         merged: dict[str, Any] = {}
         for key, params in self.controller_parameters.items():
             if key == name or ("*" in key and node_key_matches(key, fqn)):
                 _deep_merge(merged, params)
+        _deep_merge(merged, self.param_file_parameters.get(name, {}))
         return merged
+
+    def use_param_file(self, name: str, source: str | Path, launch_args: Mapping[str, Any] | None = None) -> bool:
+        """Give controller ``name`` a parameter file, as the spawner's ``--param-file`` (and ``ros2 control
+        load_controller NAME FILE``) does before the load.
+
+        As Jazzy's spawner: the file counts for the controller when it has a section ``<name>``, ``/<ns>/<name>``,
+        ``/**/<name>`` or ``/**/<ns>/<name>``, ``<name>`` inside ``/**``, or a ``/**`` section of its own. Then its
+        ``type`` (first of those sections that has one) becomes the controller's type, and the controller reads the
+        whole file as its node would (:func:`node_key_matches`), over the controllers YAML.
+
+        Args:
+            name: Controller name.
+            source: The parameter file.
+            launch_args: Values for ``$(var name)`` in the file, as for a file handed to the spawner as
+                ``ParameterFile(..., allow_substs=True)``; None reads the file as it is.
+
+        Returns:
+            Whether the file has parameters for the controller (if not, nothing changes and it is not used).
+
+        Raises:
+            ParameterError: If the file cannot be read, a substitution fails, the file is not a parameter file, or it
+                names the controller without its namespace while the controller is in one (the spawner stops there).
+        """
+        from rrbot_workshop.middleware.param_substitution import substitute
+
+        path = Path(source)
+        text, problem = read_text(path)
+        if problem:
+            raise ParameterError("parameter file", str(path), problem)
+        if launch_args is not None and "$(" in text:
+            text = substitute(text, launch_args, source=str(path))
+        data, problem = load_yaml(text)
+        if problem:
+            raise ParameterError("parameter file", str(path), problem)
+        if not isinstance(data, Mapping):
+            raise ParameterError("parameter file", str(path), "must be a mapping of node names to 'ros__parameters'")
+        ns = self.namespace
+        fqn = fully_qualified(ns, name)
+        wild = data.get("/**")
+        found: list[Any] = []
+        for key in (name, fqn, f"/**/{name}", f"/**{fqn}"):
+            if key in data:
+                if key == name and ns != "/":
+                    raise ParameterError("parameter file", str(path), f"names '{name}' without a namespace, but the "
+                                         f"controller is {fqn}: write '{fqn}:' or '/**/{name}:' (Jazzy's spawner stops "
+                                         "here)")
+                found.append(data[key])
+            elif isinstance(wild, Mapping) and key in wild:
+                found.append(wild[key])
+            elif isinstance(wild, Mapping) and "ros__parameters" in wild:
+                found.append(wild)
+        if not found:
+            return False
+        for section in found:
+            if not isinstance(section, Mapping) or not isinstance(section.get("ros__parameters"), Mapping | None):
+                raise ParameterError("parameter file", str(path), f"is not a valid ROS parameter file for {fqn}: its "
+                                     "section needs 'ros__parameters:'")
+        ctype = next((sec["ros__parameters"]["type"] for sec in found
+                      if isinstance(sec.get("ros__parameters"), Mapping) and "type" in sec["ros__parameters"]), None)
+        file_cfg = _configure(_node_sections(data, str(path)), str(path), ns)
+        params = file_cfg.parameters_for(name)
+        if ctype is not None:
+            if not isinstance(ctype, str) or "/" not in ctype:
+                raise ParameterError(name, "type", f"'{ctype}' in {path} is not a plugin type string such as "
+                                     "'package/ClassName'")
+            self.controller_types[name] = ctype
+        self.param_files.setdefault(name, []).append(str(path))
+        _deep_merge(self.param_file_parameters.setdefault(name, {}), params)
+        return True
 
     @property
     def manager_name(self) -> str:
@@ -226,8 +300,14 @@ def _manager_section(cfg: ControllersConfig, params: Mapping[str, Any], where: s
             cfg.manager_parameters[str(pname)] = copy.deepcopy(pval)
 
 
-def load_controllers_yaml(source: str | Path | Mapping[str, Any], namespace: str = "/") -> ControllersConfig:
+def load_controllers_yaml(source: str | Path | Mapping[str, Any], namespace: str = "/",
+                          launch_args: Mapping[str, Any] | None = None) -> ControllersConfig:
     """Read a controllers file (path, YAML text, or an already-parsed mapping) for the nodes of ``namespace``.
+
+    With ``launch_args`` (even empty) the text is read as launch's ``ParameterFile(path, allow_substs=True)`` reads
+    it: ``$(var name)`` becomes the launch argument (see :mod:`~rrbot_workshop.middleware.param_substitution`); a
+    variable that is not given is a :class:`ParameterError` naming the file, the line and the variable. Without, the
+    text is read as it is (as rcl reads a file given with ``--params-file``).
 
     Node keys are matched as ROS 2 matches them (:func:`node_key_matches`): ``/rrbot_1/controller_manager`` only in
     ``/rrbot_1``, ``controller_manager`` only in the root namespace, ``/**/controller_manager`` in every namespace.
@@ -250,6 +330,10 @@ def load_controllers_yaml(source: str | Path | Mapping[str, Any], namespace: str
             text, problem = read_text(path)
             if problem:
                 raise ParameterError("controllers file", where, problem)
+        if launch_args is not None and "$(" in text:
+            from rrbot_workshop.middleware.param_substitution import substitute
+
+            text = substitute(text, launch_args, source=where)
         data, problem = load_yaml(text)
         if problem:
             raise ParameterError("controllers file", where, problem)
