@@ -213,8 +213,9 @@ class ControllerManager:
             ParameterError: If the parameters do not match the controller's declarations, or the parameter file or
                 the ros args cannot be read.
         """
-        from rrbot_workshop.middleware.names import parse_ros_args
+        from rrbot_workshop.middleware.names import check_node_name, parse_ros_args
 
+        check_node_name(name)  # before any look-up by name: a name rcl refuses is refused first, as in Jazzy
         rules, overrides = parse_ros_args(ros_args) if ros_args else ([], {})
         if param_file is not None:
             if name in self._controllers:
