@@ -53,9 +53,9 @@ from rrbot_workshop.controller_manager.switch import Switcher, name_list
 from rrbot_workshop.exceptions import ControllerError, HardwareError, LifecycleError, PluginNotFound
 from rrbot_workshop.hardware_interface.resource_manager import ResourceManager
 from rrbot_workshop.middleware.clock import Clock, SimClock
+from rrbot_workshop.middleware.controllers_yaml import MANAGER_NODE
 from rrbot_workshop.middleware.lifecycle import State
 from rrbot_workshop.middleware.params import ControllersConfig
-from rrbot_workshop.middleware.controllers_yaml import MANAGER_NODE
 from rrbot_workshop.middleware.topics import TopicBus, node_owner
 
 __all__ = ["ControllerManager"]

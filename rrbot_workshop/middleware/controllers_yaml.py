@@ -10,6 +10,16 @@
     joint_state_broadcaster:
       ros__parameters: {}
 
+It is read as ROS 2 Jazzy reads a parameter file, for the nodes of one namespace (``"/"`` unless given):
+
+* node keys are matched to each node's fully qualified name as rclcpp matches them (:func:`node_key_matches`):
+  ``/rrbot_1/controller_manager`` there only, a key without a leading ``/`` in the root namespace only, ``/*`` one
+  namespace part, ``/**`` any number; every matching section gives its parameters in file order, a later one winning;
+* lists of maps are read as rcl_yaml_param_parser reads them (:func:`rcl_parameters`);
+* with launch arguments, ``$(var name)`` is filled first, as launch's ``ParameterFile(allow_substs=True)`` does;
+* a parameter file given at load (the spawner's ``--param-file``) is found for a controller as Jazzy's spawner finds
+  it (:meth:`ControllersConfig.use_param_file`).
+
 The declared parameters of each controller type, and their validation, are in
 :mod:`rrbot_workshop.middleware.params`, which also offers both names of this module.
 """

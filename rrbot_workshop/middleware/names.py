@@ -9,12 +9,14 @@ ROS 2 (``rmw_validate_node_name``, used by ``rcl`` when a node is created) accep
 
 Jazzy's controller manager creates a node per controller at load, so a name such as ``a-b``, ``2nd`` or one with a
 space or a newline makes the load fail. :func:`node_name_problem` says why a name breaks the rule (or ``""``), and
-:func:`check_node_name` raises with that reason and the rule.
+:func:`check_node_name` raises with that reason and the rule. :func:`parse_ros_args` reads the remap rules and
+parameters of a node's ``--ros-args`` (the spawner's ``--controller-ros-args``).
 """
 
 from __future__ import annotations
 
 import re
+from collections.abc import Sequence
 from typing import Any
 
 from rrbot_workshop.exceptions import ControllerError
@@ -109,7 +111,7 @@ def topic_name_problem(name: object) -> str:
     return ""
 
 
-def parse_ros_args(args: str | list[str]) -> tuple[list[tuple[str, str]], dict[str, Any]]:
+def parse_ros_args(args: str | Sequence[str]) -> tuple[list[tuple[str, str]], dict[str, Any]]:
     """The remap rules and parameters of a node's ``--ros-args`` (the spawner's ``--controller-ros-args``).
 
     ``-r from:=to`` (or ``--remap``) remaps a topic or service name; ``-p name:=value`` (or ``--param``) sets a

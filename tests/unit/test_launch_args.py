@@ -11,13 +11,12 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
+from test_namespaces import arm_urdf
 
 import rrbot_workshop as rw
 from rrbot_workshop.exceptions import ParameterError
 from rrbot_workshop.middleware.controllers_yaml import load_controllers_yaml
 from rrbot_workshop.msgs import Float64MultiArray
-
-from test_namespaces import arm_urdf
 
 PREFIXED_YAML = """\
 controller_manager:

@@ -13,13 +13,12 @@ import logging
 from pathlib import Path
 
 import pytest
+from test_namespaces import TWO_ARMS_YAML, arm_urdf
 
 import rrbot_workshop as rw
 from rrbot_workshop.course.magics import control
 from rrbot_workshop.exceptions import ControllerError, ParameterError
 from rrbot_workshop.msgs import Float64MultiArray
-
-from test_namespaces import TWO_ARMS_YAML, arm_urdf
 
 BASE = """\
 controller_manager:
