@@ -196,6 +196,19 @@ class ControllersConfig:
         _deep_merge(self.param_file_parameters.setdefault(name, {}), params)
         return True
 
+    def section_names(self) -> dict[str, str]:
+        """Controller name -> the node key it is written under, for every controller section that reaches a node of
+        this namespace: a plain key, or a wildcard key ending in a name (``/**/fwd`` -> ``fwd``). ``/**`` itself and
+        keys ending in a wildcard name no controller and are left out."""
+        out: dict[str, str] = {}
+        for key in self.controller_parameters:
+            last = key.rsplit("/", 1)[-1]
+            if "*" in last:
+                continue
+            if key == last or node_key_matches(key, fully_qualified(self.namespace, last)):
+                out.setdefault(last, key)
+        return out
+
     @property
     def manager_name(self) -> str:
         """The fully qualified name of the controller manager (``/controller_manager``, ``/rrbot_1/controller_manager``)."""

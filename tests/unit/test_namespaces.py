@@ -112,6 +112,8 @@ def test_each_namespace_reads_its_own_sections_and_the_wildcards() -> None:
     assert b.parameters_for("forward_position_controller")["joints"] == ["arm_b_j1", "arm_b_j2"]
     assert "joints" not in root.parameters_for("forward_position_controller")
     assert a.manager_name == "/arm_a/controller_manager"
+    assert a.section_names() == {"forward_position_controller": "/**/forward_position_controller"}
+    assert root.manager_namespaces() == []  # only a wildcard manager key
 
 
 def test_matching_sections_merge_in_file_order_the_later_winning() -> None:
