@@ -87,13 +87,15 @@ def _description_to_urdf(description: str | Path, xacro_args: Mapping[str, Any])
 
 
 def controllers_config(controllers: Any, package: str | None,
-                       package_path: Sequence[str | Path] | None = None) -> ControllersConfig:
+                       package_path: Sequence[str | Path] | None = None,
+                       launch_args: Mapping[str, Any] | None = None) -> ControllersConfig:
     """The controllers config from what :func:`~rrbot_workshop.bringup.bringup` was given as ``controllers``.
 
     Args:
         controllers: See :func:`~rrbot_workshop.bringup.bringup`.
         package: The description's package: a bare file name is looked for in its ``config/``.
         package_path: Folders searched first for packages.
+        launch_args: Fill a file's or a text's ``$(var name)`` (see :func:`load_controllers_yaml`).
 
     Raises:
         ParameterError: If the file is not found (the message says where it was looked for) or is malformed.
@@ -106,14 +108,14 @@ def controllers_config(controllers: Any, package: str | None,
         return load_controllers_yaml(controllers)
     text = str(controllers)
     if "\n" in text:
-        return load_controllers_yaml(text)
+        return load_controllers_yaml(text, launch_args=launch_args)
     from rrbot_workshop.bringup import packages
 
     with packages.use_package_path(package_path):
         reference, _ = packages.split_package_reference(text)
         if reference is not None:
             try:
-                return load_controllers_yaml(packages.resolve_uri(text))
+                return load_controllers_yaml(packages.resolve_uri(text), launch_args=launch_args)
             except DescriptionError as exc:
                 raise ParameterError("controllers file", text, str(exc)) from None
         path = Path(text).expanduser()
@@ -133,7 +135,7 @@ def controllers_config(controllers: Any, package: str | None,
     if not path.exists():
         raise ParameterError("controllers file", text, "does not exist (give a path, package://<pkg>/<path>, "
                              "$(find <pkg>)/<path>, a file name under the package's config/, a mapping or YAML text)")
-    return load_controllers_yaml(path)
+    return load_controllers_yaml(path, launch_args=launch_args)
 
 
 def hardware_initial_states(cfg: ControllersConfig, override: Mapping[str, Any] | None) -> dict[str, State]:

@@ -20,7 +20,7 @@ from pathlib import Path
 from typing import Any
 
 from rrbot_workshop.bringup.inputs import controllers_config, description_to_urdf, hardware_initial_states
-from rrbot_workshop.bringup.system import System, register, unique_name
+from rrbot_workshop.bringup.system import System, namespaced, register, shared_graph, unique_name
 from rrbot_workshop.controller_manager.manager import ControllerManager
 from rrbot_workshop.exceptions import ControllerNotFound, ParameterError
 from rrbot_workshop.hardware_interface.resource_manager import ResourceManager
@@ -45,6 +45,9 @@ def bringup(
     name: str | None = None,
     package_path: Iterable[str | Path] | None = None,
     mock_hardware: str | None = None,
+    namespace: str | None = None,
+    launch_args: Mapping[str, Any] | None = None,
+    controller_types: Mapping[str, str] | None = None,
 ) -> System:
     """Build and start a system from a description and a controllers YAML.
 
@@ -66,6 +69,17 @@ def bringup(
         mock_hardware: None: load the plugins as written. ``"unknown"``: every ``<hardware><plugin>`` the library
             does not have becomes the mock of its component's type. ``"all"``: every component does. The
             replaced plugins are logged and kept in ``system.mocked_hardware``.
+        namespace: The node namespace of the controller manager and its controllers (``"/rrbot_1"``), as a launch
+            file's ``Node(..., namespace=...)``: the manager is ``/rrbot_1/controller_manager`` (its services too),
+            controllers' topics resolve in it (``/rrbot_1/forward_position_controller/commands``,
+            ``/rrbot_1/joint_states``), and each node takes the YAML sections whose keys match its fully qualified
+            name as ROS 2 matches them (``/**/controller_manager``, ``/rrbot_1/...``). Systems with a namespace
+            share one topic graph, as nodes of one ROS graph do. None: the root namespace, a graph of its own.
+        launch_args: Launch arguments for ``$(var name)`` in the controllers YAML (and in parameter files given to
+            :meth:`System.spawn`), as ``ParameterFile(..., allow_substs=True)`` fills them.
+        controller_types: Controller name or plugin type -> a library controller type to load in its place, with
+            the same parameters (``{"r6bot_controller": "joint_trajectory_controller/JointTrajectoryController"}``
+            lets example 7 run with the JTC standing in for its own controller); a log line says so.
 
     Returns:
         The running :class:`System` (it becomes the "current" one for the magics).
@@ -85,7 +99,8 @@ def bringup(
 
     package_path = [package_path] if isinstance(package_path, str | Path) else list(package_path or [])
     urdf, package, source = description_to_urdf(description, xacro_args or {}, package_path)
-    cfg = controllers_config(controllers, package, package_path)
+    args = {str(k): v for k, v in (launch_args or {}).items()}
+    cfg = namespaced(controllers_config(controllers, package, package_path, args), namespace)
     infos = parse_ros2_control(urdf, source=source)
     infos, mocked = mock_hardware_infos(infos, mock_hardware)
     for component, original in mocked.items():
@@ -103,7 +118,10 @@ def bringup(
     rm = ResourceManager(update_rate=cfg.update_rate, initial_states=hardware_initial_states(cfg, hardware_initial_state))
     with use_package_path(package_path):  # simulated hardware resolves package:// meshes while it loads
         rm.load_hardware_infos(infos)
-    cm = ControllerManager(rm, TopicBus(), cfg.update_rate, urdf, cfg, the_clock)
+    bus = shared_graph(cfg.manager_name) if cfg.namespace != "/" else TopicBus()
+    cm = ControllerManager(rm, bus, cfg.update_rate, urdf, cfg, the_clock)
+    cm.launch_args = args
+    cm.controller_type_stand_ins.update(controller_types or {})
     name = unique_name(urdf, name)
     system = System(name, urdf, infos, cm, the_clock)
     system.mocked_hardware = mocked

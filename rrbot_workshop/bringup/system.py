@@ -12,7 +12,9 @@ from __future__ import annotations
 import itertools
 import logging
 import re
-from collections.abc import Iterable
+import shlex
+from collections.abc import Iterable, Mapping
+from pathlib import Path
 from types import TracebackType
 from typing import Any
 
@@ -21,16 +23,63 @@ from rrbot_workshop.controller_manager.node_loop import run_cycles
 from rrbot_workshop.description.info import HardwareInfo
 from rrbot_workshop.exceptions import HardwareError, ParameterError
 from rrbot_workshop.middleware.clock import Clock, WallClock
+from rrbot_workshop.middleware.controllers_yaml import (
+    MANAGER_NODE,
+    ControllersConfig,
+    node_key_matches,
+    normalize_namespace,
+)
 from rrbot_workshop.middleware.lifecycle import State
 from rrbot_workshop.middleware.topics import TopicBus
 
-__all__ = ["System", "current_system", "get_system", "systems", "register", "unique_name"]
+__all__ = ["System", "current_system", "get_system", "systems", "register", "unique_name", "namespaced", "shared_graph"]
 
 _log = logging.getLogger(__name__)
 
 _SYSTEMS: dict[str, System] = {}
 _CURRENT: list[str] = []
 _COUNTER = itertools.count(1)
+_GRAPH: list[TopicBus] = []  # the topic graph the systems with a namespace share (one, while any of them runs)
+
+
+def shared_graph(manager_name: str) -> TopicBus:
+    """The topic bus shared by the running systems with a namespace: one ROS graph, where each controller manager
+    and its controllers live under their own namespace. A new one when none of them runs.
+
+    Args:
+        manager_name: Fully qualified name of the controller manager about to join (``/rrbot_1/controller_manager``).
+
+    Raises:
+        HardwareError: If a running system already has a controller manager of that name.
+    """
+    running = [s for s in _SYSTEMS.values() if s.namespace != "/"]
+    for other in running:
+        if other.controller_manager.name == manager_name:
+            raise HardwareError(f"a controller manager {manager_name} already runs (system '{other.name}'); shut it "
+                                "down or bring this one up in another namespace")
+    if not running or not _GRAPH:
+        _GRAPH[:] = [TopicBus()]
+    return _GRAPH[0]
+
+
+def namespaced(cfg: ControllersConfig, namespace: str | None) -> ControllersConfig:
+    """The controllers config as the nodes of ``namespace`` read it (``cfg``'s own namespace if None).
+
+    Raises:
+        ParameterError: If the namespace is not valid, or the file configures controller managers only in other
+            namespaces (the message names them and the ``namespace=`` to pass).
+    """
+    ns = normalize_namespace(namespace) if namespace is not None else cfg.namespace
+    if ns != cfg.namespace:
+        cfg = cfg.for_namespace(ns)
+    mine = any(key.rsplit("/", 1)[-1] == MANAGER_NODE and node_key_matches(key, cfg.manager_name)
+               for key, _ in cfg.sections)
+    others = [n for n in cfg.manager_namespaces() if n != ns]
+    if cfg.sections and not mine and others:
+        raise ParameterError("controllers file", cfg.source, f"configures the controller manager {others[0]}/"
+                             f"{MANAGER_NODE} but not {cfg.manager_name}, as ROS 2 matches node names: bring it up "
+                             f"in that namespace, bringup(..., namespace='{others[0]}')")
+    return cfg
 
 
 def systems() -> dict[str, System]:
@@ -67,6 +116,7 @@ class System:
         bus: Topic bus.
         resource_manager: The resource manager.
         controller_manager: The controller manager.
+        namespace: The namespace of the controller manager and its controllers (``"/"`` unless given to bringup).
         clock: The loop's clock.
         mocked_hardware: Component name -> the plugin that ``bringup(..., mock_hardware=...)`` replaced by a mock.
     """
@@ -85,6 +135,7 @@ class System:
         self.controller_manager = controller_manager
         self.resource_manager = controller_manager.resource_manager
         self.bus: TopicBus = controller_manager.bus
+        self.namespace: str = controller_manager.namespace
         self.clock = clock
         self.mocked_hardware: dict[str, str] = {}
         self._running = True
@@ -211,6 +262,9 @@ class System:
         inactive: bool = False,
         activate_as_group: bool = False,
         load_only: bool = False,
+        param_file: str | Path | Iterable[str | Path] | None = None,
+        controller_ros_args: str | None = None,
+        remap: Mapping[str, str] | None = None,
     ) -> None:
         """Start controllers on the running system, as ``ros2 run controller_manager spawner`` does.
 
@@ -224,6 +278,13 @@ class System:
             inactive: Configure but do not activate (``--inactive``).
             activate_as_group: One switch for all (``--activate-as-group``).
             load_only: Load only (``--load-only``).
+            param_file: ``--param-file``: one file or several, given to each controller as Jazzy's spawner does
+                (its ``type`` and its parameters for the controller, over the controllers YAML; see
+                :meth:`~rrbot_workshop.controller_manager.manager.ControllerManager.load_controller`). ``$(var ...)``
+                in it take the system's ``launch_args``.
+            controller_ros_args: ``--controller-ros-args`` text, e.g. ``"-r ~/cmd_vel:=/cmd_vel"`` (remaps) or
+                ``"-p name:=value"``, for each controller's node.
+            remap: Remap rules as a mapping, ``{"~/cmd_vel": "/cmd_vel"}`` (added after ``controller_ros_args``).
 
         Raises:
             ControllerNotFound: If a name is not declared in the controllers YAML.
@@ -236,11 +297,19 @@ class System:
         if inactive and activate_as_group:
             raise ParameterError("spawn", "inactive/activate_as_group", "choose one: they contradict each other")
         cm = self.controller_manager
+        files = [] if param_file is None else [param_file] if isinstance(param_file, str | Path) else list(param_file)
+        ros_args = shlex.split(controller_ros_args) if controller_ros_args else []
+        for match, replacement in (remap or {}).items():
+            ros_args += ["-r", f"{match}:={replacement}"]
         for name in names:
             if name in cm.controllers:
                 _log.warning("spawner: controller '%s' is already loaded, skipping load_controller", name)
             else:
-                cm.load_controller(name)
+                for extra in files[:-1]:
+                    if not cm.params.use_param_file(name, extra, cm.launch_args):
+                        _log.warning("parameter file %s has no section for '%s'; it is not used", extra, name)
+                cm.load_controller(name, param_file=files[-1] if files else None,
+                                   ros_args=ros_args if ros_args else None)
             if load_only:
                 continue
             if cm.controllers[name].state is not State.ACTIVE:

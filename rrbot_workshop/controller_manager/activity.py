@@ -70,14 +70,17 @@ class ActivityReporter:
         clock: The stamp of each message.
         controllers: The manager's loaded controllers by name (the live mapping), reported in load order.
         rm: The resource manager whose hardware components are reported.
+        topic: Where it publishes: ``<manager's fully qualified name>/activity``.
+        owner: The manager's node on the bus.
     """
 
     def __init__(self, bus: TopicBus, clock: Clock, controllers: Mapping[str, ControllerSpec],
-                 rm: ResourceManager) -> None:
+                 rm: ResourceManager, topic: str = ACTIVITY_TOPIC, owner: str = "controller_manager") -> None:
         self._clock = clock
         self._controllers = controllers
         self._rm = rm
-        self._pub = bus.create_publisher(ControllerManagerActivity, ACTIVITY_TOPIC, owner="controller_manager")
+        self.topic = topic
+        self._pub = bus.create_publisher(ControllerManagerActivity, topic, owner=owner)
         self._last: _Snapshot | None = None
         self._last_key: tuple[Any, ...] | None = None
 

@@ -24,7 +24,7 @@ from rrbot_workshop.middleware.clock import Clock
 from rrbot_workshop.middleware.lifecycle import CallbackReturn, State
 from rrbot_workshop.middleware.names import check_node_name
 from rrbot_workshop.middleware.params import ControllersConfig
-from rrbot_workshop.middleware.topics import TopicBus
+from rrbot_workshop.middleware.topics import TopicBus, node_owner
 
 __all__ = ["ControllerLifecycle"]
 
@@ -174,14 +174,15 @@ class ControllerLifecycle:
         if name in fallback:  # Jazzy refuses to load it: a failing controller cannot take over from itself
             raise ControllerError(f"controller '{name}' names itself in 'fallback_controllers' {fallback}; list other "
                                   "controllers that can take over when it fails")
+        namespace = self._params.namespace
         try:
             result = ctrl.init(name, self._robot_description, self._update_rate, self._bus, parameters,
-                               clock=self._clock.now)
+                               namespace=namespace, clock=self._clock.now)
         except Exception:
-            self._bus.remove_owner(name)
+            self._bus.remove_owner(node_owner(name, namespace))
             raise
         if result is not CallbackReturn.SUCCESS:
-            self._bus.remove_owner(name)
+            self._bus.remove_owner(node_owner(name, namespace))
             if not isinstance(result, CallbackReturn):
                 hint = " (did it forget to `return CallbackReturn.SUCCESS`?)" if result is None else ""
                 raise ControllerError(f"controller '{name}' ({type_name}): on_init returned {result!r}{hint}; it must "

@@ -23,7 +23,8 @@ services.
 from __future__ import annotations
 
 import logging
-from collections.abc import Callable, Iterable, Mapping
+from collections.abc import Callable, Iterable, Mapping, Sequence
+from pathlib import Path
 from types import MappingProxyType
 from typing import Any
 
@@ -49,12 +50,13 @@ from rrbot_workshop.controller_manager.spec import (
 )
 from rrbot_workshop.controller_manager.statistics import ControllerStatistics
 from rrbot_workshop.controller_manager.switch import Switcher, name_list
-from rrbot_workshop.exceptions import ControllerError, HardwareError, LifecycleError
+from rrbot_workshop.exceptions import ControllerError, HardwareError, LifecycleError, PluginNotFound
 from rrbot_workshop.hardware_interface.resource_manager import ResourceManager
 from rrbot_workshop.middleware.clock import Clock, SimClock
+from rrbot_workshop.middleware.controllers_yaml import MANAGER_NODE
 from rrbot_workshop.middleware.lifecycle import State
 from rrbot_workshop.middleware.params import ControllersConfig
-from rrbot_workshop.middleware.topics import TopicBus
+from rrbot_workshop.middleware.topics import TopicBus, node_owner
 
 __all__ = ["ControllerManager"]
 
@@ -106,10 +108,21 @@ class ControllerManager:
         self._switcher = Switcher(self._controllers, self._chains, self._claims, rm, own.default_strictness)
         self._hooks = CycleHooks()
         self._hardware = rm.cycle  # read and write of the cycle, called without going through the resource manager
+        #: Controller name or plugin type -> the library type loaded in its place (``bringup(..., controller_types=)``).
+        self.controller_type_stand_ins: dict[str, str] = {}
+        #: Values for ``$(var name)`` in parameter files given at load (``bringup(..., launch_args=)``); None: as is.
+        self.launch_args: dict[str, Any] | None = None
+        #: The namespace of the manager and its controllers (``"/"``, ``"/rrbot_1"``), from the controllers config.
+        self.namespace = self.params.namespace
+        #: The manager's fully qualified node name (``/controller_manager``, ``/rrbot_1/controller_manager``).
+        self.name = self.params.manager_name
+        self._owner = node_owner(MANAGER_NODE, self.namespace)
         register_services(self.bus, **{name: self._late(name) for name in SERVICE_CALLS},
-                          hardware_state=lambda name: rm.get_component(name).get_lifecycle_state())
-        #: Publishes ``/controller_manager/activity`` when a controller or hardware component changes state.
-        self.activity = ActivityReporter(self.bus, self.clock, self._controllers, rm)
+                          hardware_state=lambda name: rm.get_component(name).get_lifecycle_state(),
+                          manager_name=self.name, owner=self._owner)
+        #: Publishes ``<name>/activity`` when a controller or hardware component changes state.
+        self.activity = ActivityReporter(self.bus, self.clock, self._controllers, rm, f"{self.name}/activity",
+                                         self._owner)
         self.activity.check()  # as Jazzy: a first message at start-up (the components' states, no controllers yet)
         switch = self._late("switch_controllers")  # set_state and the fallbacks switch as a caller of the manager would
         self._lifecycle = ControllerLifecycle(self._controllers, self._chains, rm, self.params, self.bus, self.clock,
@@ -175,16 +188,70 @@ class ControllerManager:
 
     # ================================================================= lifecycle (ControllerLifecycle)
     @reports_activity
-    def load_controller(self, name: str, type: str | None = None) -> ControllerInterface:  # noqa: A002
+    def load_controller(
+        self,
+        name: str,
+        type: str | None = None,  # noqa: A002
+        param_file: str | Path | None = None,
+        *,
+        ros_args: str | Sequence[str] | None = None,
+    ) -> ControllerInterface:
         """Create controller ``name`` of plugin ``type`` (from the controllers YAML if None) and run ``on_init``.
+
+        ``ros2 control load_controller NAME PARAM_FILE`` and the spawner's ``--param-file``: with ``param_file``,
+        the file is first given to the controller as Jazzy's spawner does it (see
+        :meth:`~rrbot_workshop.middleware.controllers_yaml.ControllersConfig.use_param_file`): its ``type`` for
+        the controller, if it has one, is the type, and its parameters for the controller override the YAML's. The
+        manager keeps the file for the controller, as Jazzy keeps ``<name>.params_file``.
+
+        ``ros_args`` is the spawner's ``--controller-ros-args`` (``"-r ~/cmd_vel:=/cmd_vel"``, ``-p name:=value``):
+        remap rules for the controller's node, and parameters that override every file.
+
+        A type listed in :attr:`controller_type_stand_ins` (by controller name or by type) is loaded as the
+        library type it names, with the same parameters; a log line says so.
 
         Raises:
             ControllerError: If the name is not a valid ROS node name (see ``middleware.names``) or is taken, the
-                type is unknown or ``on_init`` fails.
+                type is unknown (the message names ``bringup(..., controller_types=...)``) or ``on_init`` fails.
             ControllerNotFound: If no type is given and the YAML declares none for ``name``.
-            ParameterError: If the parameters do not match the controller's declarations.
+            ParameterError: If the parameters do not match the controller's declarations, or the parameter file or
+                the ros args cannot be read.
         """
-        return self._lifecycle.load(name, type).controller
+        from rrbot_workshop.middleware.names import check_node_name, parse_ros_args
+
+        check_node_name(name)  # before any look-up by name: a name rcl refuses is refused first, as in Jazzy
+        rules, overrides = parse_ros_args(ros_args) if ros_args else ([], {})
+        if param_file is not None:
+            if name in self._controllers:
+                raise ControllerError(f"controller '{name}' is already loaded; unload it first or use another name")
+            if not self.params.use_param_file(name, param_file, self.launch_args):
+                _log.warning("parameter file %s has no section for '%s' (%s/%s, /**/%s, ...); it is not used",
+                             param_file, name, self.namespace.rstrip("/"), name, name)
+        if overrides:
+            for dotted, value in overrides.items():
+                node = self.params.param_file_parameters.setdefault(name, {})
+                *path, last = dotted.split(".")
+                for part in path:
+                    node = node.setdefault(part, {})
+                node[last] = value
+        if ros_args is not None:
+            self.bus.set_remaps(node_owner(name, self.namespace), rules)
+        declared = type or self.params.controller_types.get(name) or self.params.parameters_for(name).get("type")
+        stand_in = self.controller_type_stand_ins.get(name) or self.controller_type_stand_ins.get(str(declared))
+        if stand_in and name not in self._controllers:
+            _log.warning("controller '%s': loading the library's '%s' in place of '%s' (controller_types), with the "
+                         "same parameters", name, stand_in, declared)
+            declared = stand_in
+        try:
+            return self._lifecycle.load(name, declared if (type or stand_in) else None).controller
+        except ControllerError as exc:
+            if isinstance(exc.__cause__, PluginNotFound):
+                raise ControllerError(
+                    f"{exc}; a controller of a package this library does not have can be stood in for by a library "
+                    f"controller with the same parameters: bringup(..., controller_types={{'{name}': "
+                    "'joint_trajectory_controller/JointTrajectoryController'}) (by controller name or by type)"
+                ) from exc.__cause__
+            raise
 
     @reports_activity
     def configure_controller(self, name: str) -> None:
@@ -380,4 +447,4 @@ class ControllerManager:
                 self.unload_controller(name)
             except (ControllerError, LifecycleError) as exc:
                 _log.warning("unloading '%s' at shutdown: %s", name, exc)
-        self.bus.remove_owner("controller_manager")
+        self.bus.remove_owner(self._owner)

@@ -62,6 +62,8 @@ def register_services(
     switch_controllers: Callable[..., Any],
     set_hardware_component_state: Callable[[str, Any], bool],
     hardware_state: Callable[[str], State],
+    manager_name: str = "/controller_manager",
+    owner: str = "controller_manager",
 ) -> None:
     """Create the ``/controller_manager/...`` services on ``bus``, each answering with the calls it is handed.
 
@@ -70,6 +72,8 @@ def register_services(
         list_controllers: The first of the manager's methods the services call, each given under its own name
             (:data:`SERVICE_CALLS`, down to ``set_hardware_component_state``).
         hardware_state: The lifecycle state of a hardware component, by name.
+        manager_name: The manager's fully qualified name: the services are ``<manager_name>/<service>``.
+        owner: The manager's node on the bus.
     """
     f = _field
 
@@ -104,4 +108,4 @@ def register_services(
         "set_hardware_component_state": lambda req: set_hw(f(req, "name"), f(req, "target_state")),
     }
     for name in SERVICE_NAMES:
-        bus.create_service(f"/controller_manager/{name}", services[name], None, owner="controller_manager")
+        bus.create_service(f"{manager_name}/{name}", services[name], None, owner=owner)

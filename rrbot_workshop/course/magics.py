@@ -9,6 +9,9 @@ or on ``--system <name>``::
     %topic info /joint_states -v
     %topic hz /joint_states
     %topic pub /forward_position_controller/commands std_msgs/msg/Float64MultiArray "{data: [0.7, 0.7]}"
+    %topic pub /diffbot_base_controller/cmd_vel geometry_msgs/msg/TwistStamped "{header: auto, twist: {linear: {x: 0.1}}}"
+    %control load_controller my_controller my_params.yaml --set-state active
+    %control -c /rrbot_1/controller_manager list_controllers
 
 Output is printed (this is the one module whose job is printing); bad input prints an error line
 naming what was wrong and what is valid, and never raises into the notebook.
@@ -19,11 +22,12 @@ from __future__ import annotations
 import argparse
 import shlex
 import typing
+from pathlib import Path
 from typing import Any
 
 import yaml
 
-from rrbot_workshop.bringup import System, current_system, get_system
+from rrbot_workshop.bringup import System, current_system, get_system, systems
 from rrbot_workshop.course.message_yaml import message_from_dict, message_to_yaml, message_type, ros_time
 from rrbot_workshop.exceptions import MessageError, RRBotWorkshopError
 
@@ -45,6 +49,8 @@ class _Parser(argparse.ArgumentParser):
 def _control_parser() -> _Parser:
     p = _Parser(prog="%control", add_help=False)
     p.add_argument("--system", default=None, help="name of the system (default: the last one brought up)")
+    p.add_argument("-c", "--controller-manager", default=None, help="the controller manager by name, e.g. "
+                   "/rrbot_1/controller_manager (instead of --system)")
     sub = p.add_subparsers(dest="verb", parser_class=_Parser)
     lc = sub.add_parser("list_controllers", add_help=False)
     lc.add_argument("-v", "--verbose", action="store_true")
@@ -55,6 +61,7 @@ def _control_parser() -> _Parser:
     sub.add_parser("list_controller_types", add_help=False)
     load = sub.add_parser("load_controller", add_help=False)
     load.add_argument("name")
+    load.add_argument("param_file", nargs="?", default=None)
     load.add_argument("--set-state", choices=["inactive", "active"], default=None)
     scs = sub.add_parser("set_controller_state", add_help=False)
     scs.add_argument("name")
@@ -81,7 +88,7 @@ def _control_parser() -> _Parser:
 
 _VERBS = (
     "list_controllers [-v], list_hardware_components [-v], list_hardware_interfaces [-v], list_controller_types, "
-    "load_controller <name> [--set-state inactive|active], set_controller_state <name> <state>, "
+    "load_controller <name> [<param_file>] [--set-state inactive|active], set_controller_state <name> <state>, "
     "switch_controllers [--activate ...] [--deactivate ...] [--strict], unload_controller <name>, "
     "set_hardware_component_state <name> <state>, view_controller_chains, statistics [--no-execution-time], "
     "why <name> [--activate|--deactivate] (or why --activate ... --deactivate ...)"
@@ -106,7 +113,14 @@ def _why_lists(cm: Any, args: Any) -> tuple[list[str], list[str]]:
     return activate, deactivate
 
 
-def _system(name: str | None) -> System:
+def _system(name: str | None, manager: str | None = None) -> System:
+    if manager is not None:  # ros2 control's -c: the controller manager by its (fully qualified) name
+        wanted = "/" + manager.strip("/")
+        for candidate in systems().values():
+            if candidate.controller_manager.name == wanted:
+                return candidate
+        names = sorted(s.controller_manager.name for s in systems().values())
+        raise _UsageError(f"no controller manager {wanted} (running: {', '.join(names) or 'none'})")
     if name is not None:
         return get_system(name)
     system = current_system()
@@ -198,7 +212,7 @@ def control(line: str) -> None:
         args = _control_parser().parse_args(shlex.split(line))
         if args.verb is None:
             raise _UsageError(f"%control needs a verb: {_VERBS}")
-        system = _system(args.system)
+        system = _system(args.system, args.controller_manager)
         cm = system.controller_manager
         verb = args.verb
         if verb == "list_controllers":
@@ -211,8 +225,13 @@ def control(line: str) -> None:
             for type_name, base in cm.list_controller_types():
                 print(f"{type_name:70s} {base}")
         elif verb == "load_controller":
-            cm.load_controller(args.name)
-            print(f"Successfully loaded controller {args.name}")
+            if args.name in cm.controllers:
+                print(f"Controller : {args.name} already loaded, skipping load_controller!")
+            else:
+                if args.param_file is not None and not Path(args.param_file).is_file():
+                    raise _UsageError(f"Controller parameter file : {args.param_file} does not exist, Aborting!")
+                cm.load_controller(args.name, param_file=args.param_file)
+                print(f"Successfully loaded controller {args.name}")
             if args.set_state:
                 cm.configure_controller(args.name)
                 if args.set_state == "active":
@@ -367,7 +386,7 @@ def topic(line: str) -> None:
                 data = yaml.safe_load(args.values)
             except yaml.YAMLError as exc:
                 raise MessageError(f"values are not valid YAML: {exc}") from None
-            msg = message_from_dict(cls, data)
+            msg = message_from_dict(cls, data, now=system.time)  # header: auto, stamp: now -> the system's clock
             system.publish(args.topic, msg)
             print("publisher: beginning loop")
             print(f"publishing #1: {msg!r}")

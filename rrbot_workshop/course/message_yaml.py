@@ -2,7 +2,7 @@
 
 The library keeps times as float seconds; ROS 2 messages carry ``builtin_interfaces/Time`` and
 ``Duration`` (``sec``, ``nanosec``). ``%topic echo`` prints them the ROS 2 way and ``%topic pub`` accepts
-both spellings.
+both spellings, and ``header: auto`` and ``stamp: now`` as ``ros2 topic pub`` does.
 """
 
 from __future__ import annotations
@@ -66,19 +66,32 @@ def _ros_shaped(data: Any) -> Any:
     return data
 
 
-def message_from_dict(cls: type, data: Any) -> Any:
+def message_from_dict(cls: type, data: Any, now: float | None = None) -> Any:
     """Build message ``cls`` from a (YAML) mapping, recursively; unknown fields are an error.
 
     Times and durations may be given as ROS 2 writes them (``stamp: {sec: 1, nanosec: 500000000}``,
     ``time_from_start: {sec: 3}``) or as seconds.
+
+    With ``now`` (what ``ros2 topic pub`` does with its node's clock): ``header: auto`` is a header stamped ``now``
+    with an empty ``frame_id``, and ``stamp: now`` (any ``builtin_interfaces/Time``) is ``now``.
+
+    Args:
+        cls: The message class.
+        data: The mapping of its fields.
+        now: The time in [s] that ``auto`` and ``now`` stand for; None accepts neither word.
 
     Raises:
         MessageError: If a field does not exist; the message lists the valid ones.
     """
     if data is None:
         return cls()
+    if cls is msgs.Header and data == "auto":
+        if now is None:
+            raise MessageError("'header: auto' needs a clock: it is expanded by %topic pub (the system's time)")
+        return msgs.Header(stamp=now, frame_id="")
     if not isinstance(data, dict):
-        raise MessageError(f"{cls.__name__} must be given as a mapping of its fields, got {data!r}")
+        hint = " (or 'auto', which sets the stamp to now and frame_id to '')" if cls is msgs.Header else ""
+        raise MessageError(f"{cls.__name__} must be given as a mapping of its fields{hint}, got {data!r}")
     hints = typing.get_type_hints(cls)
     names = [f.name for f in dataclasses.fields(cls)]
     kwargs: dict[str, Any] = {}
@@ -88,9 +101,13 @@ def message_from_dict(cls: type, data: Any) -> Any:
         hint = hints[key]
         origin = typing.get_origin(hint)
         if isinstance(hint, type) and dataclasses.is_dataclass(hint):
-            kwargs[key] = message_from_dict(hint, value)
+            kwargs[key] = message_from_dict(hint, value, now)
         elif origin is list and typing.get_args(hint) and dataclasses.is_dataclass(typing.get_args(hint)[0]):
-            kwargs[key] = [message_from_dict(typing.get_args(hint)[0], v) for v in value or []]
+            kwargs[key] = [message_from_dict(typing.get_args(hint)[0], v, now) for v in value or []]
+        elif key == "stamp" and hint is float and value == "now":
+            if now is None:
+                raise MessageError(f"{cls.__name__}.stamp: 'now' needs a clock: it is expanded by %topic pub")
+            kwargs[key] = float(now)
         elif hint is float and isinstance(value, dict) and key in _TIME_FIELDS:
             kwargs[key] = _seconds_from_ros(cls, key, value)
         elif hint is float and isinstance(value, int) and not isinstance(value, bool):

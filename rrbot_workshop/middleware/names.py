@@ -9,17 +9,20 @@ ROS 2 (``rmw_validate_node_name``, used by ``rcl`` when a node is created) accep
 
 Jazzy's controller manager creates a node per controller at load, so a name such as ``a-b``, ``2nd`` or one with a
 space or a newline makes the load fail. :func:`node_name_problem` says why a name breaks the rule (or ``""``), and
-:func:`check_node_name` raises with that reason and the rule.
+:func:`check_node_name` raises with that reason and the rule. :func:`parse_ros_args` reads the remap rules and
+parameters of a node's ``--ros-args`` (the spawner's ``--controller-ros-args``).
 """
 
 from __future__ import annotations
 
 import re
+from collections.abc import Sequence
+from typing import Any
 
 from rrbot_workshop.exceptions import ControllerError
 
 __all__ = ["NODE_NAME_MAX_LENGTH", "NODE_NAME_RULE", "node_name_problem", "is_valid_node_name", "check_node_name",
-           "topic_name_problem"]
+           "topic_name_problem", "parse_ros_args"]
 
 #: The longest node name ROS accepts.
 NODE_NAME_MAX_LENGTH = 255
@@ -106,3 +109,59 @@ def topic_name_problem(name: object) -> str:
                 return f"it contains {bad.group()!r}"
             return f"its part {token!r} starts with a digit"
     return ""
+
+
+def parse_ros_args(args: str | Sequence[str]) -> tuple[list[tuple[str, str]], dict[str, Any]]:
+    """The remap rules and parameters of a node's ``--ros-args`` (the spawner's ``--controller-ros-args``).
+
+    ``-r from:=to`` (or ``--remap``) remaps a topic or service name; ``-p name:=value`` (or ``--param``) sets a
+    parameter (the value read as YAML, as rcl reads it). A leading ``--ros-args`` and a closing ``--`` are accepted.
+
+    Args:
+        args: The text (``"-r ~/cmd_vel:=/cmd_vel"``) or its words.
+
+    Returns:
+        (rules as (from, to) in order, parameters by dotted name).
+
+    Raises:
+        ParameterError: For another flag, a rule without ``:=``, a node-name prefix (``node:from:=to``), or a
+            ``__ns``/``__node`` rule (a controller's namespace and name are its controller manager's and its own).
+    """
+    import shlex
+
+    import yaml
+
+    from rrbot_workshop.exceptions import ParameterError
+
+    words = shlex.split(args) if isinstance(args, str) else list(args)
+    rules: list[tuple[str, str]] = []
+    params: dict[str, Any] = {}
+    i = 0
+    while i < len(words):
+        flag = words[i]
+        if flag in ("--ros-args", "--"):
+            i += 1
+            continue
+        if flag not in ("-r", "--remap", "-p", "--param") or i + 1 >= len(words):
+            raise ParameterError("controller ros args", flag, f"is not supported here (give '-r from:=to' or "
+                                 f"'-p name:=value'; got {' '.join(words)!r})")
+        rule = words[i + 1]
+        if ":=" not in rule:
+            raise ParameterError("controller ros args", rule, f"needs 'from:=to' after {flag}")
+        left, right = rule.split(":=", 1)
+        if flag in ("-r", "--remap"):
+            if left.startswith("__"):
+                raise ParameterError("controller ros args", rule, "renames the node or its namespace; a controller's "
+                                     "name and namespace are set by its controller manager")
+            if ":" in left:
+                raise ParameterError("controller ros args", rule, "node-specific rules ('node:from:=to') are not "
+                                     "supported; the rule already applies to this controller only")
+            for name in (left, right):
+                problem = topic_name_problem(name)
+                if problem:
+                    raise ParameterError("controller ros args", rule, f"'{name}' is not a valid name: {problem}")
+            rules.append((left, right))
+        else:
+            params[left] = yaml.safe_load(right) if right else ""
+        i += 2
+    return rules, params

@@ -2,7 +2,8 @@
 
 What a ROS 2 Jazzy launch file can do to a controllers YAML before the controller manager reads it:
 
-* ``ParameterFile(path, allow_substs=True)`` replaces ``$(var name)`` with the launch argument ``name`` and
+* ``ParameterFile(path, allow_substs=True)`` replaces ``$(var name)`` with the launch argument ``name`` (``$(var name
+  default)`` falls back to ``default``) and
   ``$(env NAME)`` / ``$(env NAME default)`` with an environment variable (:func:`substitute`). A file given to the
   spawner with ``--param-file`` is read as it is: no substitutions there.
 * Several parameter files for the same node are applied in order, a later file overriding the keys it sets and
@@ -33,7 +34,7 @@ _OWNER = "parameter file"
 
 
 def substitute(text: str, variables: Mapping[str, Any], source: str = "<text>") -> str:
-    """Replace ``$(var name)``, ``$(env NAME)`` and ``$(env NAME default)`` in ``text``.
+    """Replace ``$(var name)``, ``$(var name default)``, ``$(env NAME)`` and ``$(env NAME default)`` in ``text``.
 
     Args:
         text: YAML (or any) text.
@@ -51,13 +52,16 @@ def substitute(text: str, variables: Mapping[str, Any], source: str = "<text>") 
     def replace(match: re.Match[str]) -> str:
         kind, args = match.group("kind"), match.group("args").split()
         where = f"{source}:{line_of(match.start())}"
-        if kind == "var" and len(args) == 1:
+        if kind == "var" and len(args) in (1, 2):
             name = args[0]
+            if name not in variables and len(args) == 2:
+                return args[1]  # $(var name default): launch's LaunchConfiguration with a default
             if name not in variables:
                 close = difflib.get_close_matches(name, list(variables), n=3)
                 hint = f"; did you mean {close}?" if close else ""
                 raise ParameterError(_OWNER, name, f"{where}: $(var {name}) is not a launch argument "
-                                     f"(given: {sorted(variables) or 'none'}){hint}")
+                                     f"(given: {sorted(variables) or 'none'}){hint}; pass it as the launch file "
+                                     f"would: bringup(..., launch_args={{'{name}': ...}}) (lint: --arg {name}:=...)")
             value = variables[name]
             return str(value).lower() if isinstance(value, bool) else str(value)
         if kind == "env" and len(args) in (1, 2):
@@ -67,7 +71,7 @@ def substitute(text: str, variables: Mapping[str, Any], source: str = "<text>") 
                                      "and $(env ...) gives no default")
             return value
         raise ParameterError(_OWNER, match.group(0), f"{where}: unsupported substitution {match.group(0)!r} "
-                             "(here: $(var name), $(env NAME), $(env NAME default))")
+                             "(here: $(var name), $(var name default), $(env NAME), $(env NAME default))")
 
     return _SUBST.sub(replace, text)
 

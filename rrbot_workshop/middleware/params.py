@@ -284,13 +284,31 @@ class ParamListener:
 
     def _build(self) -> Params:
         self._used: set[str] = set()
+        self._expanded: set[str] = set()
         root: dict[str, Any] = {}
         for decl in self.schema.declarations:
             for name, value in self._expand(decl, root):
                 self._place(root, name, value)
+        self._check_groups()
         for given in self.undeclared:
             _log.warning("'%s' got parameter '%s', which it does not declare; it is ignored", self.owner, given)
         return self._to_params(root)
+
+    def _check_groups(self) -> None:
+        """A value given where the controller declares a group of parameters is refused: ignoring it would leave the
+        group at its defaults (a controller that loads, activates and does nothing).
+
+        Raises:
+            ParameterError: Naming the controller, the parameter, what it holds and the names the group declares.
+        """
+        for given in self.undeclared:
+            inside = sorted(n[len(given) + 1:] for n in self._expanded if n.startswith(given + "."))
+            if inside:
+                value = self._given[given]
+                shown = repr(value) if len(repr(value)) <= 80 else repr(value)[:77] + "..."
+                raise ParameterError(self.owner, given, f"is a group of parameters ({', '.join(inside)}), but the YAML "
+                                     f"was given the value {shown}; give it as a mapping, e.g. "
+                                     f"'{given.rsplit('.', 1)[-1]}: {{{inside[0]}: ...}}'")
 
     def _expand(self, decl: _Decl, root: dict[str, Any]) -> list[tuple[tuple[str, ...], Any]]:
         # Replace each "__map_<list>" segment by every entry of that list parameter.
@@ -305,6 +323,7 @@ class ParamListener:
         out = []
         for actual, storage in paths:
             name = ".".join(actual)
+            self._expanded.add(name)
             value = self._given.get(name, None)
             if name in self._given:
                 self._used.add(name)

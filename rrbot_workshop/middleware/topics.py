@@ -19,7 +19,7 @@ from rrbot_workshop.exceptions import MessageError
 from rrbot_workshop.middleware.names import topic_name_problem
 from rrbot_workshop.msgs import ros_type_name
 
-__all__ = ["TopicBus", "Node", "Publisher", "Subscription", "Service", "resolve_name"]
+__all__ = ["TopicBus", "Node", "Publisher", "Subscription", "Service", "resolve_name", "node_owner"]
 
 _log = logging.getLogger(__name__)
 
@@ -44,6 +44,12 @@ def resolve_name(name: str, node_name: str = "", namespace: str = "/") -> str:
     if name.startswith("/"):
         return name
     return f"{ns}/{name}"
+
+
+def node_owner(name: str, namespace: str = "/") -> str:
+    """How the bus names a node's endpoints: ``name`` in the root namespace, ``/<namespace>/<name>`` in another."""
+    ns = namespace.strip("/")
+    return f"/{ns}/{name}" if ns else name
 
 
 @dataclass
@@ -161,6 +167,20 @@ class TopicBus:
         self._services: dict[str, Service] = {}
         self._publishers: dict[str, list[str]] = collections.defaultdict(list)
         self._warned_no_subscriber: set[str] = set()
+        self._remaps: dict[str, list[tuple[str, str]]] = {}
+
+    # ----------------------------------------------------------------- remapping
+    def set_remaps(self, owner: str, rules: list[tuple[str, str]]) -> None:
+        """Remap rules (``from``, ``to``) for the node ``owner`` (``-r from:=to`` of its ``--ros-args``), applied
+        to the names it resolves from now on; an empty list removes them."""
+        if rules:
+            self._remaps[owner] = list(rules)
+        else:
+            self._remaps.pop(owner, None)
+
+    def remaps(self, owner: str) -> list[tuple[str, str]]:
+        """The remap rules of node ``owner``."""
+        return list(self._remaps.get(owner, ()))
 
     # ----------------------------------------------------------------- registration
     def _check_type(self, topic: str, msg_type: type | None) -> None:
@@ -375,6 +395,9 @@ class Node:
         self._namespace = namespace
         self._bus = bus
         self._clock = clock or (lambda: 0.0)
+        #: What the bus records as this node's endpoints: the name in the root namespace (as before namespaces),
+        #: the fully qualified name in another, so equal names in two namespaces stay apart.
+        self.owner = node_owner(name, namespace)
 
     def get_name(self) -> str:
         """Node name."""
@@ -398,26 +421,31 @@ class Node:
         return self._clock()
 
     def resolve_topic_name(self, topic: str) -> str:
-        """Expand ``~`` and relative names against this node."""
-        return resolve_name(topic, self._name, self._namespace)
+        """Expand ``~`` and relative names against this node, then apply its remap rules as rcl does: a rule
+        whose ``from``, expanded against the node, equals the expanded name gives its ``to``, expanded too."""
+        expanded = resolve_name(topic, self._name, self._namespace)
+        for match, replacement in self._bus.remaps(self.owner):
+            if resolve_name(match, self._name, self._namespace) == expanded:
+                return resolve_name(replacement, self._name, self._namespace)
+        return expanded
 
     def create_publisher(self, msg_type: type | None, topic: str, qos: Any = 10) -> Publisher:
         """Create a publisher (argument order as in rclpy)."""
-        return self._bus.create_publisher(msg_type, self.resolve_topic_name(topic), owner=self._name)
+        return self._bus.create_publisher(msg_type, self.resolve_topic_name(topic), owner=self.owner)
 
     def create_subscription(
         self, msg_type: type | None, topic: str, callback: Callable[[Any], None], qos: Any = 10
     ) -> Subscription:
         """Create a subscription (argument order as in rclpy)."""
-        return self._bus.create_subscription(msg_type, self.resolve_topic_name(topic), callback, owner=self._name)
+        return self._bus.create_subscription(msg_type, self.resolve_topic_name(topic), callback, owner=self.owner)
 
     def create_service(self, srv_type: type | None, name: str, callback: Callable[[Any], Any]) -> Service:
         """Create a service; ``srv_type`` is the request dataclass (e.g. ``SetBoolRequest``)."""
-        return self._bus.create_service(self.resolve_topic_name(name), callback, srv_type, owner=self._name)
+        return self._bus.create_service(self.resolve_topic_name(name), callback, srv_type, owner=self.owner)
 
     def destroy(self) -> None:
         """Remove this node's publishers, subscriptions and services from the bus."""
-        self._bus.remove_owner(self._name)
+        self._bus.remove_owner(self.owner)
 
 
 def _report_callback_error(topic: str, sub: Any, msg: Any, exc: Exception) -> None:

@@ -77,7 +77,8 @@ class ControllerManagerPanel:
         self.refresh()
         # as rqt_controller_manager listens to ~/activity: redraw when a state changes, whoever changed it (a cell,
         # a fault in the loop, another panel); delivered with the next cycle, at once while spinning in the background
-        self._activity = system.bus.create_subscription(None, ACTIVITY_TOPIC, lambda _msg: self.refresh(),
+        topic = getattr(system.controller_manager.activity, "topic", ACTIVITY_TOPIC)  # <manager>/activity
+        self._activity = system.bus.create_subscription(None, topic, lambda _msg: self.refresh(),
                                                         owner="controller_manager_panel")
 
     def stop(self) -> None:
