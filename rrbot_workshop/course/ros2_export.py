@@ -248,7 +248,7 @@ def generate_launch_description():
 
 def _readme(result: Ros2Export, references: list[str]) -> str:
     robot_controllers = result.robot_controllers
-    ported = "\n".join(f"- `python_reference/{r}`" for r in references) or "- (none of tasks 7 and 8 written yet)"
+    ported = "\n".join(f"- {r}" for r in references) or "- (none of tasks 7 and 8 written yet)"
     plugins = ", ".join(f"`{p}`" for p in result.to_port) or "none"
     return f"""# Your RRBot, as ROS 2 packages
 
@@ -627,7 +627,10 @@ def export_ros2(target: str | Path, *, force: bool = False, task: int | None = N
         for src in sorted(folder.rglob("*.py")):
             dst = root / "python_reference" / relative / src.relative_to(folder)
             copies[dst] = src
-            references.append(str(dst.relative_to(root / "python_reference")))
+            stubs = tracks.file_stubs(src)
+            note = (f" (unfinished: {len(stubs)} stub(s) left, the first {stubs[0][1]}() at line {stubs[0][0]}; "
+                    f"finish task {ported} first)") if stubs else ""
+            references.append(f"`python_reference/{dst.relative_to(root / 'python_reference').as_posix()}`{note}")
 
     launch = _launch_file(source.controllers.name, plan.robot_controllers, plan.broadcasters)
     result.exec_depends = {

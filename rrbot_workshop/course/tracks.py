@@ -51,6 +51,7 @@ __all__ = [
     "task_dir",
     "load_track_class",
     "unfinished_problem",
+    "file_stubs",
     "install",
 ]
 
@@ -369,6 +370,19 @@ def _stubs(tree: ast.Module, lines: list[str]) -> list[tuple[int, str, str]]:
 
     visit(tree, "")
     return [found[k] for k in sorted(found)]
+
+
+def file_stubs(path: Path) -> list[tuple[int, str, str]]:
+    """The functions of a Python file still left as stubs, without running it: ``(line, function, what it does)``.
+
+    A stub raises ``NotImplementedError``, or only answers ERROR/FAILURE (or nothing) under a TODO. A file that does
+    not parse or read has none to report (:func:`unfinished_problem` says why it is unfinished).
+    """
+    try:
+        source = path.read_text(encoding="utf-8")
+        return _stubs(ast.parse(source, filename=str(path)), source.splitlines())
+    except (SyntaxError, OSError, UnicodeDecodeError, ValueError):
+        return []
 
 
 def unfinished_problem(path: Path, class_name: str) -> tuple[int | None, str, Any]:

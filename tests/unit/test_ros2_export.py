@@ -320,6 +320,18 @@ def test_readme_says_what_remains_cpp(tmp_path: Path, solutions_track: None) -> 
     export_ros2(tmp_path / "ws")
     readme = (tmp_path / "ws" / "README.md").read_text()
     assert "colcon build" in readme and "What remains C++" in readme and "RRBotHardwareInterface" in readme
+    assert "python_reference/controlko_hardware_interface/rrbot_hardware_interface.py`\n" in readme
+    assert "unfinished" not in readme
+
+
+def test_readme_says_which_python_reference_is_unfinished(task_root: Path, tmp_path: Path) -> None:
+    _unfinish(task_root, 7)
+    export_ros2(tmp_path / "ws", task=2)
+    readme = (tmp_path / "ws" / "README.md").read_text()
+    line = next(x for x in readme.splitlines() if "rrbot_hardware_interface.py" in x)
+    assert "(unfinished:" in line and "RRBotHardwareInterface.on_init() at line" in line and "finish task 7" in line
+    line = next(x for x in readme.splitlines() if "displacement_controller.py" in x)
+    assert "unfinished" not in line
 
 
 def test_non_empty_target_is_refused_unless_forced(tmp_path: Path, solutions_track: None) -> None:
