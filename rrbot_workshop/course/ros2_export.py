@@ -362,7 +362,7 @@ def _controllers_yaml(folder: Path) -> Path | None:
         return None
     found = sorted(p for p in folder.iterdir() if p.suffix in (".yaml", ".yml") and p.is_file())
     preferred = [p for p in found if p.name == _PREFERRED_YAML]
-    return (preferred or found or [None])[0]
+    return (preferred or found)[0] if found else None
 
 
 def export_sources(track: str | None = None) -> list[ExportSource]:
@@ -550,9 +550,13 @@ def _unique(items: Iterable[str]) -> list[str]:
     return list(dict.fromkeys(items))
 
 
+def _text(node: ast.expr | None) -> str | None:
+    return node.value if isinstance(node, ast.Constant) and isinstance(node.value, str) else None
+
+
 def _launch_packages(text: str) -> list[str]:
     """The packages a launch file needs at run time, read from its code."""
-    found: list[str] = []
+    found: list[str | None] = []
     tree = ast.parse(text)
     for node in ast.walk(tree):
         if isinstance(node, ast.ImportFrom) and node.module:
@@ -561,13 +565,14 @@ def _launch_packages(text: str) -> list[str]:
             found += [alias.name.split(".", 1)[0] for alias in node.names]
         elif isinstance(node, ast.Call) and isinstance(node.func, ast.Name):
             keywords = {k.arg: k.value for k in node.keywords}
-            if node.func.id == "Node" and isinstance(keywords.get("package"), ast.Constant):
-                found.append(keywords["package"].value)
-            elif node.func.id == "FindPackageShare" and node.args and isinstance(node.args[0], ast.Constant):
-                found.append(node.args[0].value)
-            elif node.func.id == "FindExecutable" and isinstance(keywords.get("name"), ast.Constant):
-                found.append(_EXECUTABLE_PACKAGES.get(keywords["name"].value, keywords["name"].value))
-    return _unique(["ros2launch", *found])  # ros2launch: the `ros2 launch` command that runs it
+            if node.func.id == "Node":
+                found.append(_text(keywords.get("package")))
+            elif node.func.id == "FindPackageShare" and node.args:
+                found.append(_text(node.args[0]))
+            elif node.func.id == "FindExecutable":
+                executable = _text(keywords.get("name"))
+                found.append(_EXECUTABLE_PACKAGES.get(executable, executable) if executable else None)
+    return _unique(["ros2launch", *(f for f in found if f)])  # ros2launch: the `ros2 launch` command that runs it
 
 
 def _description_packages(files: Iterable[Path], own: str) -> list[str]:
