@@ -443,20 +443,19 @@ def _shown(path: Path) -> str:
 
 def _instead(plugin: TrackPlugin) -> str:
     """What a learner can do while the class is unfinished, for the error message."""
-    options = [f"finish task {plugin.task} (`rrbot-workshop grade {plugin.task}` checks it)"]
+    options = [f"finish task {plugin.task} (`rrbot-workshop grade {plugin.task}`)"]
     if plugin.library_name:
-        options.append(f"name the library's own {plugin.class_name}, '{plugin.library_name}', instead")
+        options.append(f"name the library's '{plugin.library_name}' instead")
     if plugin.kind == "hardware":
-        options.append("run on mock hardware (xacro argument use_mock_hardware:=true, or "
-                       "rw.bringup(..., mock_hardware=\"unknown\"))")
-    options.append(f"use the course's solutions (${TRACK_ENV}=solutions)")
-    return "; or ".join(options)
+        options.append('mock it (use_mock_hardware:=true, or mock_hardware="unknown")')
+    options.append(f"use the solutions track ({TRACK_ENV}=solutions)")
+    return ", ".join(options[:-1]) + ", or " + options[-1]
 
 
 def _unfinished(plugin: TrackPlugin, track: str, path: Path | None, line: int | None, problem: str) -> UnfinishedExercise:
     where = _shown(path) if path is not None else f"task {plugin.task}'s folder"
     message = (f"'{plugin.type_name}' is the workshop's name for your task {plugin.task} class {plugin.class_name} in "
-               f"{where}, which is unfinished: {problem}. To run anyway: {_instead(plugin)}")
+               f"{where}, which is unfinished: {problem}. To run anyway: {_instead(plugin)}.")
     return UnfinishedExercise(plugin.type_name, plugin.kind, plugin.task, path, line, problem, message,
                               plugins.available(plugin.kind))
 
