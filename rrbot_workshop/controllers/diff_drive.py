@@ -34,6 +34,7 @@ _LIMITS = """
       max_velocity: {type: double, default_value: .nan, description: "Highest velocity; NaN is no limit."}
       min_velocity: {type: double, default_value: .nan, description: "Lowest velocity; NaN means -max_velocity."}
       max_acceleration: {type: double, default_value: .nan, description: "Largest speed-up forwards."}
+      min_acceleration: {type: double, default_value: .nan, description: "Deprecated in Jazzy and not used: set max_deceleration and max_acceleration_reverse."}
       max_deceleration: {type: double, default_value: .nan, description: "Largest slow-down forwards (magnitude)."}
       max_acceleration_reverse: {type: double, default_value: .nan, description: "Largest speed-up backwards (magnitude)."}
       max_deceleration_reverse: {type: double, default_value: .nan, description: "Largest slow-down backwards (magnitude)."}

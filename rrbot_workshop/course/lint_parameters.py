@@ -160,12 +160,12 @@ def check_parameters(
         if not _known(key, patterns) and not _type_ok(value, expected):
             report("error", key, f"'{key}' must be of type {_type_name(expected)}, got {value!r}")
     for key in given:
-        if key in common or _known(key, patterns):
-            continue
         deprecated = next((a for (t, k), a in DEPRECATED.items()
                            if fnmatch.fnmatchcase(key, k) and fnmatch.fnmatchcase(ctype, t)), None)
-        if deprecated:
+        if deprecated:  # declared (the class may declare it too) but deprecated: a note, whatever the schema says
             report("note", key, f"'{key}' {deprecated}")
+            continue
+        if key in common or _known(key, patterns):
             continue
         if key in shared_keys:
             continue
