@@ -448,7 +448,11 @@ def _instead(plugin: TrackPlugin) -> str:
         options.append(f"name the library's '{plugin.library_name}' instead")
     if plugin.kind == "hardware":
         options.append('mock it (use_mock_hardware:=true, or mock_hardware="unknown")')
-    options.append(f"use the solutions track ({TRACK_ENV}=solutions)")
+    try:
+        if (course_root() / TRACKS[1]).is_dir():  # a student copy has no solutions to offer
+            options.append(f"use the solutions track ({TRACK_ENV}={TRACKS[1]})")
+    except CourseError:
+        pass
     return ", ".join(options[:-1]) + ", or " + options[-1]
 
 
