@@ -92,9 +92,8 @@ def bringup(
         ControllerError: If a controller fails to load, configure or activate.
         SwitchError: If activating ``spawn`` is rejected.
     """
-    from rrbot_workshop.description import parse_ros2_control
-
     from rrbot_workshop.bringup.packages import use_package_path
+    from rrbot_workshop.description import parse_ros2_control
     from rrbot_workshop.hardware_interface.resource_loading import mock_hardware_infos
 
     package_path = [package_path] if isinstance(package_path, str | Path) else list(package_path or [])
