@@ -658,10 +658,12 @@ def resolve_uri(uri: str, extra: Iterable[str | os.PathLike[str]] | str | os.Pat
     try:
         pkg = find_package(package, extra)
     except DescriptionError:
-        if package in _SEEN and not must_exist:
-            pkg = _SEEN[package]
-        else:
+        # after a bringup with its own package path returned (a viewer showing its meshes): the packages met so far
+        earlier = [_SEEN.get(package)] + [i.packages.get(package) for i in reversed(list(_CACHE.values()))]
+        known = next((p for p in earlier if p is not None), None)
+        if known is None or must_exist:
             raise
+        pkg = known
     if not relative:
         return pkg.path
     found = pkg.find(relative)
