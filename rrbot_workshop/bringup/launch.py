@@ -87,6 +87,9 @@ def bringup(
     from rrbot_workshop.description import parse_ros2_control
 
     urdf, package, source = description_to_urdf(description, xacro_args or {})
+    for label, given in (("launch_args", launch_args), ("controller_types", controller_types)):
+        if given is not None and not isinstance(given, Mapping):
+            raise ParameterError("bringup", label, f"must be a mapping of names to values, got {given!r}")
     args = {str(k): v for k, v in (launch_args or {}).items()}
     cfg = namespaced(controllers_config(controllers, package, args), namespace)
     infos = parse_ros2_control(urdf, source=source)
