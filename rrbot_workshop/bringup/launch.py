@@ -22,7 +22,6 @@ from typing import Any
 from rrbot_workshop.bringup.inputs import controllers_config, description_to_urdf, hardware_initial_states
 from rrbot_workshop.bringup.packages import use_package_path
 from rrbot_workshop.bringup.system import System, namespaced, register, shared_graph, unique_name
-
 from rrbot_workshop.controller_manager.manager import ControllerManager
 from rrbot_workshop.exceptions import ControllerNotFound, ParameterError
 from rrbot_workshop.hardware_interface.resource_loading import mock_hardware_infos
@@ -97,7 +96,9 @@ def bringup(
     """
     from rrbot_workshop.description import parse_ros2_control
 
-
+    for label, given in (("launch_args", launch_args), ("controller_types", controller_types)):
+        if given is not None and not isinstance(given, Mapping):
+            raise ParameterError("bringup", label, f"must be a mapping of names to values, got {given!r}")
     package_path = [package_path] if isinstance(package_path, str | Path) else list(package_path or [])
     urdf, package, source = description_to_urdf(description, xacro_args or {}, package_path)
     args = {str(k): v for k, v in (launch_args or {}).items()}
