@@ -176,6 +176,8 @@ class HardwareInfo:
         original_xml: The ``<ros2_control>`` element's XML text.
         robot_description: The whole URDF text the tag was parsed from, or ``""``. Simulated hardware
             (``rrbot_workshop/MujocoSystem``) builds its physics model from it, as Gazebo's plugin does.
+        mocked_plugin: The plugin ``bringup(..., mock_hardware=...)`` replaced by a mock, or ``""`` (not in Jazzy:
+            the library's record of a substitution).
     """
 
     name: str
@@ -196,3 +198,4 @@ class HardwareInfo:
     async_params: dict[str, str] = field(default_factory=dict)
     original_xml: str = ""
     robot_description: str = ""
+    mocked_plugin: str = ""

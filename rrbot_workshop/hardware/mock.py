@@ -102,6 +102,10 @@ class GenericSystem(SystemInterface):
             self.mock_gpio_commands = _parse_bool(params.get("mock_gpio_commands", "false"))
             self.disable_commands = _parse_bool(params.get("disable_commands", "false"))
             self.calculate_dynamics = _parse_bool(params.get("calculate_dynamics", "false"))
+            #: True on a component ``bringup(..., mock_hardware=...)`` mocked (not in Jazzy): a joint
+            #: given several control modes at once follows the first of position/velocity/acceleration instead of
+            #: refusing, as the replaced driver may have accepted them (example 7's robot takes both).
+            self.several_modes = bool(info.mocked_plugin)
             # As upstream, the custom interface is only read when an offset is given.
             if "position_state_following_offset" in params:
                 self.position_state_following_offset = float(params["position_state_following_offset"])
@@ -210,7 +214,7 @@ class GenericSystem(SystemInterface):
                 self.mode_switch_rejection = (
                     f"joint '{joint}' needs one of the '{_MODES[0]}', '{_MODES[1]}' or '{_MODES[2]}' command interfaces"
                 )
-            elif count > 1:
+            elif count > 1 and not self.several_modes:
                 self.mode_switch_rejection = f"joint '{joint}' got {count} control modes at once; only one is supported"
             else:
                 continue
@@ -222,11 +226,15 @@ class GenericSystem(SystemInterface):
         """With ``calculate_dynamics``, put each joint in the mode of its started interface."""
         if not self.calculate_dynamics:
             return ReturnType.OK
+        chosen: dict[int, str] = {}
         for key in start_interfaces:
             index = self._joint_of(key)
             mode = key.rpartition("/")[2]
             if index is not None and mode in _MODES:
-                self._joint_modes[index] = mode
+                if index not in chosen or _MODES.index(mode) < _MODES.index(chosen[index]):
+                    chosen[index] = mode  # several at once (a mocked driver's joint): the first of _MODES leads
+        for index, mode in chosen.items():
+            self._joint_modes[index] = mode
         return ReturnType.OK
 
     # ----------------------------------------------------------------- cyclic

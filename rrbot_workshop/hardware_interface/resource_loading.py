@@ -129,7 +129,9 @@ def mock_hardware_infos(infos: Sequence[HardwareInfo], mode: str | None) -> tupl
     A replaced component whose joint commands are all position/velocity/acceleration also gets
     ``calculate_dynamics=true`` unless it sets it (as the demos' own mock switches do): a velocity command then moves
     the joint's position, as the driver's hardware would. Effort commands are mirrored only (GenericSystem with
-    dynamics refuses a joint without a position, velocity or acceleration command).
+    dynamics refuses a joint without a position, velocity or acceleration command). A mocked joint given several
+    control modes at once (example 7's controller claims position and velocity) follows the first of position,
+    velocity and acceleration instead of refusing the switch, as the replaced driver may accept them.
 
     Args:
         infos: The parsed ``<ros2_control>`` tags.
@@ -167,7 +169,7 @@ def mock_hardware_infos(infos: Sequence[HardwareInfo], mode: str | None) -> tupl
             commands = {i.name for j in info.joints for i in j.command_interfaces}
             if "calculate_dynamics" not in params and commands and commands <= {"position", "velocity", "acceleration"}:
                 params["calculate_dynamics"] = "true"  # a driver's joints move: velocity commands integrate
-            info = dataclasses.replace(info, hardware_plugin_name=mock, hardware_parameters=params)
+            info = dataclasses.replace(info, hardware_plugin_name=mock, hardware_parameters=params, mocked_plugin=plugin)
         out.append(info)
     return out, mocked
 

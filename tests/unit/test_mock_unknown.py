@@ -196,3 +196,32 @@ def test_cli_bringup_errors_are_one_line_with_exit_status_2(capsys: pytest.Captu
     assert main(["bringup", TINYBOT, "--package-path", str(SRC), "--mock-hardware", "some"]) == 2
     assert main(["bringup", TINYBOT, "--package-path", str(SRC), "--seconds", "-1"]) == 2
     assert "--seconds must be" in capsys.readouterr().err
+
+
+def test_a_mocked_joint_takes_several_control_modes_where_genericsystem_refuses_them() -> None:
+    """Example 7's controller claims position and velocity of each joint. Its driver accepts that; a GenericSystem
+    with calculate_dynamics refuses it, as Jazzy's does. A mocked driver takes both and follows the position."""
+    from rrbot_workshop.exceptions import SwitchError
+
+    def urdf(plugin: str, params: str = "") -> str:
+        return ('<robot name="r"><link name="base"/><link name="l"/><joint name="j" type="revolute">'
+                '<parent link="base"/><child link="l"/><limit lower="-3" upper="3" effort="1" velocity="9"/></joint>'
+                f'<ros2_control name="arm" type="system"><hardware><plugin>{plugin}</plugin>{params}</hardware>'
+                '<joint name="j"><command_interface name="position"/><command_interface name="velocity"/>'
+                '<state_interface name="position"/><state_interface name="velocity"/></joint></ros2_control></robot>')
+
+    yaml = {"controller_manager": {"ros__parameters": {"update_rate": 100, "jtc": {
+        "type": "joint_trajectory_controller/JointTrajectoryController"}}},
+        "jtc": {"ros__parameters": {"joints": ["j"], "command_interfaces": ["position", "velocity"],
+                                    "state_interfaces": ["position", "velocity"]}}}
+    with rw.bringup(urdf("vendor/ArmDriver"), yaml, mock_hardware="unknown", spawn=["jtc"]) as system:
+        from rrbot_workshop.msgs import JointTrajectory, JointTrajectoryPoint
+
+        system.publish("/jtc/joint_trajectory", JointTrajectory(
+            joint_names=["j"], points=[JointTrajectoryPoint(positions=[0.4], time_from_start=1.0)]))
+        system.spin(1.5)
+        assert system.resource_manager.get_interface_value("j/position") == pytest.approx(0.4, abs=1e-3)
+    with pytest.raises(SwitchError, match="2 control modes at once"):
+        rw.bringup(urdf("mock_components/GenericSystem", '<param name="calculate_dynamics">true</param>'), yaml,
+                   spawn=["jtc"])
+    assert rw.bringup.systems() == {}
