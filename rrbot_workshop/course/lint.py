@@ -68,6 +68,40 @@ from rrbot_workshop.middleware import plugins
 from rrbot_workshop.middleware.params import ParameterSchema, flatten
 from rrbot_workshop.middleware.text_files import MAX_DEPTH, SAFE_LOADER, nesting_depth, paused_gc, read_text
 
+def external_plugin(ctype: str, source: str) -> str | None:
+    """Where a package declares the pluginlib class ``ctype`` (``pkg/Class``), or None.
+
+    The package is the type's prefix, looked up on the package path or found above the linted file (a demo's YAML
+    sits in the package that declares its controller). Its plugin description files (the ``*.xml`` beside its
+    ``package.xml``, as ``pluginlib_export_plugin_description_file`` installs them) are read for
+    ``<class name="ctype">``.
+    """
+    import xml.etree.ElementTree as ET
+
+    from rrbot_workshop.bringup import packages
+
+    prefix = ctype.partition("/")[0]
+    folders: list[Path] = []
+    with contextlib.suppress(Exception):
+        folders.append(packages.find_package(prefix).path)
+    for parent in Path(source).resolve().parents:
+        manifest = parent / "package.xml"
+        if manifest.is_file():
+            with contextlib.suppress(Exception):
+                if (ET.parse(manifest).getroot().findtext("name") or "").strip() == prefix:
+                    folders.append(parent)
+            break
+    for folder in folders:
+        for xml_file in sorted(folder.glob("*.xml")):
+            if xml_file.name == "package.xml":
+                continue
+            with contextlib.suppress(Exception):
+                root = ET.parse(xml_file).getroot()
+                if any(c.get("name") == ctype for c in root.iter("class")):
+                    return f"{prefix}/{xml_file.name}"
+    return None
+
+
 __all__ = ["Finding", "CONTROLLER_MANAGER_PARAMETERS", "lint_controllers", "lint_description", "format_findings"]
 
 @dataclass(frozen=True)
@@ -302,6 +336,13 @@ class _Linter:
                 unfinished = unfinished_exercise(exc)
                 if unfinished is not None:  # the workshop's name for a learner's class that is not finished
                     report_type("error", f"'{ctype}' resolves to your unfinished {unfinished}")
+                    return None
+                declared = external_plugin(ctype, self.source)
+                if declared is not None:  # a package's own C++ controller: Jazzy loads it, the library cannot
+                    report_type("note", f"'{ctype}' is a C++ controller declared in {declared}: Jazzy loads it from "
+                                        "that package, this library cannot run it, so its parameters are not checked "
+                                        "(to try the package here, bring it up with controller_types={'"
+                                        f"{controller.name}': '<a library controller type>'}})")
                     return None
                 report_type("error", f"unknown controller type '{ctype}': no controller of that type is available "
                                      f"here{closest(ctype, plugins.available('controller'))}")

@@ -130,3 +130,25 @@ def test_broken_description_is_reported_with_its_file(tmp_path: Path) -> None:
     bad.write_text("<robot name='r'><link name='a'/></robot>")
     (finding,) = lint_description(bad)
     assert finding.level == "error" and finding.source == str(bad) and "ros2_control" in finding.message
+
+
+def test_a_packages_own_cpp_controller_is_a_note_and_an_undeclared_type_an_error(tmp_path: Path) -> None:
+    """A demo's own controller (declared in its package's plugin description file) loads in Jazzy: lint says the
+    library cannot run it, as a note. The same type without the declaration stays an unknown type (an error)."""
+    from rrbot_workshop.course.lint import lint_controllers
+
+    pkg = tmp_path / "arm_demo"
+    (pkg / "bringup" / "config").mkdir(parents=True)
+    (pkg / "package.xml").write_text('<?xml version="1.0"?><package format="3"><name>arm_demo</name>'
+                                     "<version>0.0.1</version></package>")
+    yaml_file = pkg / "bringup" / "config" / "arm.yaml"
+    yaml_file.write_text("controller_manager:\n  ros__parameters:\n    update_rate: 50\n"
+                         "arm_controller:\n  ros__parameters:\n    type: arm_demo/ArmController\n    joints: [j1]\n")
+    unknown = lint_controllers(yaml_file)
+    assert [(f.level, f.where) for f in unknown] == [("error", "arm_controller.type")]
+    (pkg / "arm_demo_plugins.xml").write_text(
+        '<library path="arm_demo"><class name="arm_demo/ArmController" type="arm_demo::ArmController" '
+        'base_class_type="controller_interface::ControllerInterface"/></library>')
+    declared = lint_controllers(yaml_file)
+    assert [(f.level, f.where) for f in declared] == [("note", "arm_controller.type")]
+    assert "arm_demo/arm_demo_plugins.xml" in declared[0].message and "controller_types" in declared[0].message
