@@ -68,6 +68,7 @@ from rrbot_workshop.middleware import plugins
 from rrbot_workshop.middleware.params import ParameterSchema, flatten
 from rrbot_workshop.middleware.text_files import MAX_DEPTH, SAFE_LOADER, nesting_depth, paused_gc, read_text
 
+
 def external_plugin(ctype: str, source: str) -> str | None:
     """Where a package declares the pluginlib class ``ctype`` (``pkg/Class``), or None.
 
