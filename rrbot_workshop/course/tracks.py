@@ -251,6 +251,15 @@ TRACK_PLUGINS: tuple[TrackPlugin, ...] = (
         class_name="DisplacementController",
         reference="rrbot_workshop.controllers.displacement:DisplacementController",
     ),
+    # MyRobot's arm (notebook 15); the library has no worked answer of task 15: an unfinished one runs as mock hardware
+    TrackPlugin(
+        kind="hardware",
+        type_name="my_robot/MyRobotHardware",
+        task=15,
+        file_name="my_robot_hardware.py",
+        class_name="MyRobotHardware",
+        reference="rrbot_workshop.hardware.mock:GenericSystem",
+    ),
 )
 
 
