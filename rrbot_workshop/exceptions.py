@@ -25,6 +25,7 @@ __all__ = [
     "MessageError",
     "CourseError",
     "GradingError",
+    "JointLimitsError",
 ]
 
 
@@ -239,3 +240,24 @@ class CourseError(RRBotWorkshopError, ValueError):
 
 class GradingError(RRBotWorkshopError):
     """A grader could not run to the end (it crashed or could not be collected); the text says why."""
+
+
+class JointLimitsError(HardwareError):
+    """A joint's measured position is beyond its position limits by more than the tolerance while a position is
+    commanded (Jazzy's joint limiters throw then: a hardware failure, or a description whose limits are narrower
+    than the joint's).
+
+    Attributes:
+        joint: Joint name.
+        position: The measured position [rad] or [m].
+        limits: ``(min_position, max_position)``.
+    """
+
+    def __init__(self, joint: str, position: float, limits: tuple[float, float]) -> None:
+        self.joint = joint
+        self.position = position
+        self.limits = limits
+        super().__init__(
+            f"joint '{joint}': its position {position:.6g} is out of its limits [{limits[0]:.6g}, {limits[1]:.6g}]; "
+            "a hardware failure, or joint limits in the description narrower than the joint's real ones"
+        )

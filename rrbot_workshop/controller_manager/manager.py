@@ -93,6 +93,10 @@ class ControllerManager:
         own = ManagerParameters.read(self.params, handle_exceptions, rm.allow_controller_activation_with_inactive_hardware)
         #: Jazzy's ``enforce_command_limits`` (see controller_manager.parameters.ManagerParameters, as the next ones).
         self.enforce_command_limits = own.enforce_command_limits
+        if own.enforce_command_limits:  # joint_limits.<joint>.* over the URDF's limits (see rrbot_workshop.joint_limits)
+            rm.set_joint_limits_parameters(self.params.manager_parameters, shared=self.params.controller_parameters.get("/**"))
+        elif any(str(key).split(".")[0] == "joint_limits" for key in self.params.manager_parameters):
+            _log.info("the controller manager's joint_limits parameters are not applied: enforce_command_limits is false")
         self.deactivate_controllers_on_hardware_self_deactivate = own.deactivate_controllers_on_hardware_self_deactivate
         rm.allow_controller_activation_with_inactive_hardware = own.allow_controller_activation_with_inactive_hardware
         #: The registry of loaded controllers, in load order, shared with the objects below (the lifecycle writes it).

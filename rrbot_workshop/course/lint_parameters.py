@@ -143,7 +143,11 @@ def _nest(flat: Mapping[str, Any]) -> dict[str, Any]:
 def manager_findings(cfg: ControllersConfig, report: Any) -> None:
     """Report the ``controller_manager`` parameters that Jazzy does not know, removed keys and wrong types."""
     flat = flatten(cfg.manager_parameters)
+    if any(key.startswith("joint_limits.") for key in flat):
+        _joint_limits_findings(cfg, flat, report)
     for key, value in flat.items():
+        if key.startswith("joint_limits."):
+            continue
         removed = _REMOVED.get(("controller_manager", key))
         if removed:
             report("error", key, f"'{key}' {removed}")
@@ -160,6 +164,22 @@ def manager_findings(cfg: ControllersConfig, report: Any) -> None:
     if strictness is not None and strictness not in ("strict", "best_effort"):
         report("error", "defaults.switch_controller.strictness",
                f"'{strictness}' is not a strictness (valid: strict, best_effort)")
+
+
+def _joint_limits_findings(cfg: ControllersConfig, flat: Mapping[str, Any], report: Any) -> None:
+    """``joint_limits.<joint>.*`` on the controller manager: checked as rrbot_workshop.joint_limits reads them."""
+    from rrbot_workshop.joint_limits import joint_limits_parameters
+
+    try:
+        joint_limits_parameters(cfg.manager_parameters, "controller_manager")
+    except ParameterError as exc:
+        report("error", exc.parameter, str(exc).split(": ", 1)[-1])
+        return
+    first = next(key for key in flat if key.startswith("joint_limits."))
+    enforce = flat.get("enforce_command_limits") is True
+    report("note", first, "Jazzy's controller manager does not apply 'joint_limits' parameters (its command limits "
+                          "come from the URDF); rrbot_workshop applies them over the URDF's"
+           + ("" if enforce else " when 'enforce_command_limits' is true"))
 
 
 def _type_name(expected: type | tuple[type, ...]) -> str:

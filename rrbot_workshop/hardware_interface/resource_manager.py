@@ -26,21 +26,45 @@ from __future__ import annotations
 import logging
 import math
 from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
 from typing import Any
 
 from rrbot_workshop.description.info import HardwareInfo
-from rrbot_workshop.exceptions import HardwareError
+from rrbot_workshop.exceptions import HardwareError, JointLimitsError
 from rrbot_workshop.hardware_interface import resource_mode_switch
 from rrbot_workshop.hardware_interface.hardware_component import HardwareComponent, HardwareComponentInfo
-from rrbot_workshop.hardware_interface.joint_limits import JointCommandLimiter
+from rrbot_workshop.hardware_interface.joint_limits import make_limiter
 from rrbot_workshop.hardware_interface.resource_cycle import HardwareCycle, HardwareReadWriteStatus
 from rrbot_workshop.hardware_interface.resource_interfaces import ResourceInterfaces
 from rrbot_workshop.hardware_interface.resource_loading import ComponentEntry, check_infos, cycle_order, load_component
+from rrbot_workshop.joint_limits import (
+    JointControlInterfacesData,
+    JointLimits,
+    JointSaturationLimiter,
+    SoftJointLimits,
+    get_joint_limits,
+    get_soft_joint_limits,
+    joint_limits_parameters,
+)
 from rrbot_workshop.middleware.lifecycle import State
 
 __all__ = ["ResourceManager", "HardwareReadWriteStatus", "HardwareComponentInfo"]
 
 _log = logging.getLogger(__name__)
+
+#: Interfaces a joint limiter limits (command) and reads (state).
+_LIMITED_KINDS = ("position", "velocity", "effort", "acceleration")
+
+
+@dataclass
+class _JointLimiterEntry:
+    """One joint's limiter and the full names of its interfaces by kind."""
+
+    joint: str
+    limiter: JointSaturationLimiter
+    commands: dict[str, str]
+    states: dict[str, str]
+    reported: bool = False  # an out-of-bounds error was logged (once until the joint is back)
 
 
 class ResourceManager(ResourceInterfaces):
@@ -77,7 +101,10 @@ class ResourceManager(ResourceInterfaces):
         #: The compiled read/write plan (see resource_cycle.HardwareCycle).
         self._cycle = HardwareCycle(update_rate, self._storage, self.set_component_state)
         #: Joint limiters by component name, built on the first enforce_command_limits() after a load.
-        self._limiters: dict[str, list[tuple[JointCommandLimiter, dict[str, str], dict[str, str]]]] = {}
+        self._limiters: dict[str, list[_JointLimiterEntry]] = {}
+        #: ``{"joint_limits": {joint: {key: value}}}`` over the description's limits (set_joint_limits_parameters).
+        self._joint_limits_params: dict[str, Any] = {"joint_limits": {}}
+        self._joint_limits_source = "controller_manager"
         if urdf is not None:
             self.load_urdf(urdf)
 
@@ -277,10 +304,60 @@ class ResourceManager(ResourceInterfaces):
         """:meth:`read` for the controller manager's cycle: None when every component returned OK."""
         return self._cycle.read(time, period)
 
+    # ================================================================= joint limits
+    def set_joint_limits_parameters(
+        self, params: Mapping[str, Any], source: str = "controller_manager", *, shared: Mapping[str, Any] | None = None
+    ) -> None:
+        """Take ``joint_limits.<joint>.*`` parameters over the description's limits for command limiting.
+
+        The controller manager passes its own ``ros__parameters`` (and those of ``/**`` as ``shared``; its own win).
+        See :mod:`rrbot_workshop.joint_limits` for the layout and the rules.
+
+        Args:
+            params: Parameters with a nested or dotted ``joint_limits`` section (others are ignored).
+            source: Where they come from, for error messages.
+            shared: Parameters that reach every node (``/**``), applied first.
+
+        Raises:
+            ParameterError: If a ``joint_limits`` parameter is unknown, of the wrong type or inconsistent; nothing
+                changes then.
+        """
+        section = {joint: dict(values) for joint, values in joint_limits_parameters(shared or {}, "/**").items()}
+        for joint, values in joint_limits_parameters(params, source).items():
+            section.setdefault(joint, {}).update(values)
+        self._joint_limits_params = {"joint_limits": section}
+        self._joint_limits_source = source
+        self._limiters.clear()
+        known = {joint.name for entry in self._entries.values() for joint in entry.info.joints}
+        unknown = sorted(set(section) - known) if self._entries else []
+        if unknown:
+            _log.warning("joint_limits parameters of %s name joints that no hardware component has: %s (joints: %s)",
+                         source, ", ".join(unknown), ", ".join(sorted(known)))
+
+    def get_hard_joint_limits(self) -> dict[str, JointLimits]:
+        """Every joint's hard limits as command limiting applies them: the description's, then the parameters'."""
+        return {joint.name: get_joint_limits(joint.name, self._joint_limits_params, entry.info.limits[joint.name],
+                                             source=self._joint_limits_source)
+                for entry in self._entries.values() for joint in entry.info.joints
+                if joint.name in entry.info.limits}
+
+    def get_soft_joint_limits(self) -> dict[str, SoftJointLimits]:
+        """Every joint's soft limits as command limiting applies them (joints without any are left out)."""
+        out = {}
+        for entry in self._entries.values():
+            for joint in entry.info.joints:
+                soft = get_soft_joint_limits(joint.name, self._joint_limits_params, entry.info.soft_limits.get(joint.name),
+                                             source=self._joint_limits_source)
+                if soft is not None:
+                    out[joint.name] = soft
+        return out
+
     def enforce_command_limits(self, period: float) -> None:
         """Limit every active component's joint commands (see :mod:`~rrbot_workshop.hardware_interface.joint_limits`).
 
         The controller manager calls this before :meth:`write` when its parameter ``enforce_command_limits`` is true.
+        A joint whose position is beyond a limit while a position is commanded is logged once as an error and its
+        commands are left as they are (Jazzy's limiter throws there).
 
         Args:
             period: Controller manager period in [s].
@@ -293,27 +370,47 @@ class ResourceManager(ResourceInterfaces):
             limiters = self._limiters.get(entry.info.name)
             if limiters is None:
                 limiters = self._limiters[entry.info.name] = self._build_limiters(entry)
-            for limiter, command_names, state_names in limiters:
-                commands = {kind: storage.commands[name].get_value() for kind, name in command_names.items()}
-                states = {kind: float(storage.states[name].get_value()) for kind, name in state_names.items()}
-                for kind, value in limiter.enforce(commands, states, period).items():
-                    if value != commands[kind] and not (math.isnan(value) and math.isnan(commands[kind])):
-                        storage.commands[command_names[kind]].set_value(value)
+            for item in limiters:
+                desired = JointControlInterfacesData(item.joint)
+                for kind, name in item.commands.items():
+                    if storage.holder(name) is not None:  # as Jazzy: only claimed command interfaces are limited
+                        setattr(desired, kind, float(storage.commands[name].get_value()))
+                if not desired.has_data():
+                    continue
+                actual = JointControlInterfacesData(item.joint)
+                for kind, name in item.states.items():
+                    value = float(storage.states[name].get_value())
+                    setattr(actual, kind, None if math.isnan(value) else value)
+                commanded = desired.copy()
+                try:
+                    item.limiter.enforce(actual, desired, period)
+                except JointLimitsError as exc:
+                    if not item.reported:
+                        _log.error("%s; its commands are not limited while it is there", exc)
+                        item.reported = True
+                    continue
+                item.reported = False
+                for kind, name in item.commands.items():
+                    value, before = getattr(desired, kind), getattr(commanded, kind)
+                    if value is not None and value != before and not (math.isnan(value) and math.isnan(before)):
+                        storage.commands[name].set_value(value)
 
-    def _build_limiters(self, entry: ComponentEntry) -> list[tuple[JointCommandLimiter, dict[str, str], dict[str, str]]]:
+    def _build_limiters(self, entry: ComponentEntry) -> list[_JointLimiterEntry]:
         out = []
         for joint in entry.info.joints:
             limits = entry.info.limits.get(joint.name)
-            if limits is None:
+            if limits is None or not joint.enable_limits:
                 continue
-            commands = {kind: f"{joint.name}/{kind}" for kind in ("position", "velocity", "effort")
+            commands = {kind: f"{joint.name}/{kind}" for kind in _LIMITED_KINDS
                         if f"{joint.name}/{kind}" in entry.command_names}
             if not commands:
                 continue
-            states = {kind: f"{joint.name}/{kind}" for kind in ("position", "velocity")
+            states = {kind: f"{joint.name}/{kind}" for kind in _LIMITED_KINDS
                       if f"{joint.name}/{kind}" in self._storage.states}
-            soft = entry.info.soft_limits.get(joint.name)
-            out.append((JointCommandLimiter(joint.name, limits, soft), commands, states))
+            limits = get_joint_limits(joint.name, self._joint_limits_params, limits, source=self._joint_limits_source)
+            soft = get_soft_joint_limits(joint.name, self._joint_limits_params, entry.info.soft_limits.get(joint.name),
+                                         source=self._joint_limits_source)
+            out.append(_JointLimiterEntry(joint.name, make_limiter(joint.name, limits, soft), commands, states))
         return out
 
     def write(self, time: float, period: float) -> HardwareReadWriteStatus:

@@ -46,7 +46,8 @@ def test_effort_is_clamped_and_stops_pushing_out_at_a_limit() -> None:
     assert limit_effort(9.0, 0.0, 0.0, LIMITS) == 5.0
     assert limit_effort(3.0, 1.0, 0.0, LIMITS) == 0.0
     assert limit_effort(-3.0, 1.0, 0.0, LIMITS) == -3.0
-    assert limit_effort(3.0, 0.0, 2.0, LIMITS) == 0.0  # at the velocity limit
+    assert limit_effort(3.0, 0.0, 2.5, LIMITS) == 0.0  # beyond the velocity limit
+    assert limit_effort(3.0, 0.0, 2.0, LIMITS) == 3.0  # at it: Jazzy cuts only beyond
 
 
 def test_soft_limits_slow_the_joint_into_the_soft_range() -> None:
