@@ -54,8 +54,8 @@ class MyRobotDevice:
         ValueError: For an unknown mode, a non-positive inertia or a list of the wrong length.
     """
 
-    def __init__(self, modes: Sequence[str], inertia: float | Sequence[float] = 0.02,
-                 damping: float | Sequence[float] = 0.1, initial_positions: Sequence[float] | None = None) -> None:
+    def __init__(self, modes: Sequence[str], inertia: float | Sequence[float] = 0.5,
+                 damping: float | Sequence[float] = 0.5, initial_positions: Sequence[float] | None = None) -> None:
         self.modes = list(modes)
         bad = [m for m in self.modes if m not in JOINT_MODES]
         if bad:
