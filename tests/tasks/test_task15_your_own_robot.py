@@ -296,7 +296,12 @@ def test_init_accepts_my_robot(hardware: type, folder: Path) -> None:
         if rig.init_state is not State.UNCONFIGURED:
             exc = rig.component.last_error
             refused.append(f"{what} ({'it raised ' + type(exc).__name__ if exc else 'it did not return SUCCESS'})")
-    assert not refused, (f"your on_init accepts MyRobot but refused {' and '.join(refused)}; the device serves any "
+            continue
+        try:  # accepted: it must also run (the names on_init remembers are the ones the states have)
+            rig.up().cycle({f"{j.name}/{j.command_interfaces[0].name}": 0.0 for j in rig.info.joints}, 0.01)
+        except AssertionError as exc:
+            refused.append(f"{what} (accepted by on_init, then {str(exc).split(': your ', 1)[-1].split(',')[0]})")
+    assert not refused, (f"your component runs MyRobot but not {' and '.join(refused)}; the device serves any "
                          "number of effort and position joints: take the names, order and count from info")
 
 
@@ -704,7 +709,7 @@ def test_yaml_pid_gains(task_file: Callable[[int, str], Path]) -> None:
     with rw.bringup(_robot_urdf(), task_file(TASK, YAML), spawn=["joint1_position_controller"],
                     name=f"task15_grader_{next(_names)}") as system:
         system.publish("/joint1_position_controller/reference",
-                       rw.msgs.MultiDOFCommand(dof_names=["joint1"], values=[0.5], values_dot=[math.nan]))
+                       rw.msgs.MultiDOFCommand(dof_names=["joint1"], values=[0.5], values_dot=[0.0]))
         system.spin_cycles(2)
         effort = system.resource_manager.get_component("my_robot").impl.get_command("joint1/effort")
     assert effort > 49.0, (f"joint1_position_controller, given the reference 0.5 rad with joint1 at 0, commanded "
