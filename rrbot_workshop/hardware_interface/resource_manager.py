@@ -357,7 +357,8 @@ class ResourceManager(ResourceInterfaces):
 
         The controller manager calls this before :meth:`write` when its parameter ``enforce_command_limits`` is true.
         A joint whose position is beyond a limit while a position is commanded is logged once as an error and its
-        commands are left as they are (Jazzy's limiter throws there).
+        commands are left as they are (Jazzy's limiter throws there); once it is back inside, limiting starts again
+        from its position.
 
         Args:
             period: Controller manager period in [s].
@@ -385,6 +386,7 @@ class ResourceManager(ResourceInterfaces):
                 try:
                     item.limiter.enforce(actual, desired, period)
                 except JointLimitsError as exc:
+                    item.limiter.reset_internals()  # once back inside, start from where the joint is
                     if not item.reported:
                         _log.error("%s; its commands are not limited while it is there", exc)
                         item.reported = True

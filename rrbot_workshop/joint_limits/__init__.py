@@ -31,14 +31,16 @@ or, with the ROS 1 file kept as it is::
     config["controller_manager"]["ros__parameters"].update(rw.joint_limits.load_joint_limits_yaml("config/joint_limits.yaml"))
     system = rw.bringup("my_robot", config, ...)
 
-**A limiter of your own** (in a hardware component's ``on_configure``, or a controller's), from its parameters over
-the URDF's limits::
+**A limiter of your own** (in a controller's ``on_configure``; a hardware component has ``self.info.limits`` and
+``self.info.soft_limits`` from the URDF, and its parameters from wherever it reads them, a ``joint_limits.yaml`` for
+instance)::
 
     from rrbot_workshop import joint_limits as jl
-    limiter = jl.JointSoftLimiter()
-    limiter.init_from_parameters(["joint1"], params, info.limits, info.soft_limits)  # params: the node's parameters
-    desired = jl.JointControlInterfacesData("joint1", position=target)
-    limiter.enforce(jl.JointControlInterfacesData("joint1", position=measured), desired, dt)  # desired.position: safe
+    info = rw.description.parse_ros2_control(self.get_robot_description())[0]   # the URDF's limits
+    self.limiter = jl.JointSoftLimiter()  # Jazzy's: one limiter per joint
+    self.limiter.init_from_parameters(["joint1"], self.get_node().parameters, info.limits, info.soft_limits)
+    # each update(): ``desired`` is limited in place
+    self.limiter.enforce(jl.JointControlInterfacesData("joint1", position=measured), desired, period)
 
 ``JointSaturationLimiter(["joint1"], [jl.get_joint_limits("joint1", params, urdf_limits)])`` builds one directly.
 """

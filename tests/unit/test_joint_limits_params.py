@@ -378,3 +378,47 @@ def test_lint_notes_the_managers_joint_limits_and_finds_their_mistakes(tmp_path:
     assert len(errors) == 1 and "'max_vel' is not a joint limits parameter (did you mean 'max_velocity'?)" in (
         errors[0].message)
     assert errors[0].line == 8
+
+
+def test_rrbot_joint_beyond_a_parameter_position_limit_is_logged_once_and_left_alone(
+    caplog: pytest.LogCaptureFixture,
+) -> None:
+    """joint1 starts at 0 rad, below ``min_position: 0.2``: Jazzy's limiter throws; here the error is logged once and
+    the command passes as it is, until the joint is back within its limits and limiting resumes."""
+    config = _config({"enforce_command_limits": True, "joint_limits": {"joint1": {
+        "has_position_limits": True, "min_position": 0.2, "max_position": 0.5}}})
+    with caplog.at_level(logging.ERROR), rw.bringup(
+            "rrbot", config, xacro_args={"use_mock_hardware": True},
+            spawn=["joint_state_broadcaster", "forward_position_controller"]) as system:
+        system.publish("/forward_position_controller/commands", Float64MultiArray(data=[0.3, 0.0]))
+        system.spin(0.05)
+        first = system.latest("/joint_states").position[0]
+        system.publish("/forward_position_controller/commands", Float64MultiArray(data=[0.9, 0.0]))
+        system.spin(0.02)
+        step = system.latest("/joint_states").position[0]
+        system.spin(0.2)
+        second = system.latest("/joint_states").position[0]
+    assert first == pytest.approx(0.3)  # not limited while the joint was out of its limits
+    assert step == pytest.approx(0.3 + math.pi * 0.01, rel=1e-9)  # limited again once inside: from 0.3 at pi rad/s
+    assert second == pytest.approx(0.5)  # up to max_position
+    errors = [r.getMessage() for r in caplog.records if "its position 0 is out of its limits [0.2, 0.5]" in r.getMessage()]
+    assert len(errors) == 1 and "joint 'joint1'" in errors[0]
+
+
+def test_rrbot_joint_limits_for_a_joint_no_component_has_are_warned_about(caplog: pytest.LogCaptureFixture) -> None:
+    config = _config({"enforce_command_limits": True,
+                      "joint_limits": {"elbow": {"has_velocity_limits": True, "max_velocity": 0.5}}})
+    with caplog.at_level(logging.WARNING), rw.bringup("rrbot", config, xacro_args={"use_mock_hardware": True}):
+        pass
+    assert "name joints that no hardware component has: elbow (joints: joint1, joint2)" in caplog.text
+
+
+def test_rrbot_joint_limits_under_slash_star_star_reach_the_manager_and_its_own_win() -> None:
+    config = _config({"enforce_command_limits": True,
+                      "joint_limits": {"joint1": {"has_velocity_limits": True, "max_velocity": 0.5}}})
+    config["/**"] = {"ros__parameters": {"joint_limits": {
+        "joint1": {"has_velocity_limits": True, "max_velocity": 0.1},
+        "joint2": {"has_velocity_limits": True, "max_velocity": 0.2}}}}
+    with rw.bringup("rrbot", config, xacro_args={"use_mock_hardware": True}) as system:
+        hard = system.resource_manager.get_hard_joint_limits()
+    assert (hard["joint1"].max_velocity, hard["joint2"].max_velocity) == (0.5, 0.2)
