@@ -1,15 +1,19 @@
 """Bring-up's inputs: what :func:`~rrbot_workshop.bringup.bringup` is given, resolved into what it builds from.
 
-* :func:`description_to_urdf`: a ``.xacro``/``.urdf`` path, URDF text, or a package name under ``descriptions/``
-  -> URDF text (with the package, when known, and a label of the source);
-* :func:`controllers_config`: a path, a file name under ``descriptions/<package>/config/``, YAML text, a mapping
-  or a :class:`~rrbot_workshop.middleware.controllers_yaml.ControllersConfig` -> a ``ControllersConfig``;
+* :func:`description_to_urdf`: a ``.xacro``/``.urdf`` path, ``package://pkg/...`` or ``$(find pkg)/...``, URDF
+  text, or a package name -> URDF text (with the package, when known, and a label of the source);
+* :func:`controllers_config`: a path, ``package://pkg/...`` or ``$(find pkg)/...``, a file name under the
+  package's ``config/``, YAML text, a mapping or a
+  :class:`~rrbot_workshop.middleware.controllers_yaml.ControllersConfig` -> a ``ControllersConfig``;
+
+Packages are looked up on the package path (:mod:`rrbot_workshop.bringup.packages`); ``package_path`` puts folders
+in front of it for the call.
 * :func:`hardware_initial_states`: the hardware components' initial states, from the controllers YAML and the caller.
 """
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -21,32 +25,57 @@ from rrbot_workshop.middleware.text_files import read_text
 __all__ = ["description_to_urdf", "controllers_config", "hardware_initial_states"]
 
 
-def description_to_urdf(description: str | Path, xacro_args: Mapping[str, Any]) -> tuple[str, str | None, str]:
-    """(URDF text, package name if known, source label)."""
-    from rrbot_workshop.description import descriptions_root, process_xacro
+def description_to_urdf(description: str | Path, xacro_args: Mapping[str, Any],
+                        package_path: Sequence[str | Path] | None = None) -> tuple[str, str | None, str]:
+    """(URDF text, package name if known, source label).
+
+    Args:
+        description: See :func:`~rrbot_workshop.bringup.bringup`.
+        xacro_args: Xacro arguments.
+        package_path: Folders searched first for packages (see :mod:`rrbot_workshop.bringup.packages`).
+
+    Raises:
+        DescriptionError: If the file or package is not found (the message says where it was looked for), or xacro
+            fails.
+    """
+    from rrbot_workshop.bringup import packages
+
+    with packages.use_package_path(package_path):
+        return _description_to_urdf(description, xacro_args)
+
+
+def _description_to_urdf(description: str | Path, xacro_args: Mapping[str, Any]) -> tuple[str, str | None, str]:
+    from rrbot_workshop.bringup import packages
+    from rrbot_workshop.description import process_xacro
 
     text = str(description)
     if isinstance(description, str) and text.lstrip().startswith("<"):
         return text, None, "<urdf string>"
-    path = Path(text)
     package = None
-    if not path.suffix and "/" not in text and "\\" not in text:
-        root = descriptions_root()
+    reference, relative = packages.split_package_reference(text)
+    if reference is not None:
+        package = reference
+        path = packages.resolve_uri(text)
+    elif not Path(text).suffix and "/" not in text and "\\" not in text:
         package = text
-        path = root / text / "urdf" / f"{text}.urdf.xacro"
-        if not path.exists():
-            valid = sorted(p.name for p in root.iterdir() if p.is_dir()) if root.is_dir() else []
+        index = packages.package_index()
+        pkg = index.packages.get(text) or packages.package_index(refresh=True).packages.get(text)
+        found = pkg.find(f"urdf/{text}.urdf.xacro") if pkg is not None else None
+        if found is None:
+            looked = (f"; looked for: {', '.join(str(c) for c in pkg.candidates(f'urdf/{text}.urdf.xacro'))}"
+                      if pkg is not None else "")
             raise DescriptionError(
-                f"description '{text}' is neither a file nor a package with urdf/{text}.urdf.xacro (packages: {valid})"
+                f"description '{text}' is neither a file nor a package with urdf/{text}.urdf.xacro (packages: "
+                f"{index.names()}; package path: {', '.join(str(e) for e in index.entries)}{looked})"
             )
+        path = found
+    else:
+        path = Path(text).expanduser()
     if not path.exists():
         raise DescriptionError(f"description file '{path}' does not exist")
     if package is None:
-        try:
-            rel = path.resolve().relative_to(descriptions_root().resolve())
-            package = rel.parts[0]
-        except (ValueError, IndexError):
-            package = None
+        owner = packages.package_of(path)
+        package = owner.name if owner is not None else None
     if path.suffix == ".xacro":
         return process_xacro(path, **dict(xacro_args)), package, str(path)
     if xacro_args:
@@ -57,8 +86,18 @@ def description_to_urdf(description: str | Path, xacro_args: Mapping[str, Any]) 
     return text, package, str(path)
 
 
-def controllers_config(controllers: Any, package: str | None) -> ControllersConfig:
-    """The controllers config from what :func:`~rrbot_workshop.bringup.bringup` was given as ``controllers``."""
+def controllers_config(controllers: Any, package: str | None,
+                       package_path: Sequence[str | Path] | None = None) -> ControllersConfig:
+    """The controllers config from what :func:`~rrbot_workshop.bringup.bringup` was given as ``controllers``.
+
+    Args:
+        controllers: See :func:`~rrbot_workshop.bringup.bringup`.
+        package: The description's package: a bare file name is looked for in its ``config/``.
+        package_path: Folders searched first for packages.
+
+    Raises:
+        ParameterError: If the file is not found (the message says where it was looked for) or is malformed.
+    """
     if controllers is None:
         return ControllersConfig()
     if isinstance(controllers, ControllersConfig):
@@ -68,20 +107,32 @@ def controllers_config(controllers: Any, package: str | None) -> ControllersConf
     text = str(controllers)
     if "\n" in text:
         return load_controllers_yaml(text)
-    path = Path(text)
-    if not path.exists() and package is not None and "/" not in text:
-        from rrbot_workshop.description import descriptions_root
+    from rrbot_workshop.bringup import packages
 
-        candidate = descriptions_root() / package / "config" / text
-        if candidate.exists():
-            path = candidate
-        else:
-            config_dir = candidate.parent
-            valid = sorted(p.name for p in config_dir.glob("*.yaml")) if config_dir.is_dir() else []
-            raise ParameterError("controllers file", text, f"not found in {config_dir} (files there: {valid})")
+    with packages.use_package_path(package_path):
+        reference, _ = packages.split_package_reference(text)
+        if reference is not None:
+            try:
+                return load_controllers_yaml(packages.resolve_uri(text))
+            except DescriptionError as exc:
+                raise ParameterError("controllers file", text, str(exc)) from None
+        path = Path(text).expanduser()
+        if not path.exists() and package is not None and "/" not in text:
+            try:
+                pkg = packages.find_package(package)
+            except DescriptionError as exc:
+                raise ParameterError("controllers file", text, str(exc)) from None
+            found = pkg.find(f"config/{text}")
+            if found is None:
+                config_dirs = [c for c in pkg.candidates("config") if c.is_dir()]
+                valid = sorted(p.name for d in config_dirs for p in d.glob("*.yaml"))
+                looked = ", ".join(str(c) for c in pkg.candidates(f"config/{text}"))
+                raise ParameterError("controllers file", text,
+                                     f"not found in package '{package}' (looked for: {looked}; files there: {valid})")
+            path = found
     if not path.exists():
-        raise ParameterError("controllers file", text, "does not exist (give a path, a file name under "
-                             "descriptions/<package>/config/, a mapping or YAML text)")
+        raise ParameterError("controllers file", text, "does not exist (give a path, package://<pkg>/<path>, "
+                             "$(find <pkg>)/<path>, a file name under the package's config/, a mapping or YAML text)")
     return load_controllers_yaml(path)
 
 

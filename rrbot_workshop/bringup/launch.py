@@ -43,6 +43,8 @@ def bringup(
     clock: str | Clock = "sim",
     hardware_initial_state: Mapping[str, str | State] | None = None,
     name: str | None = None,
+    package_path: Iterable[str | Path] | None = None,
+    mock_hardware: str | None = None,
 ) -> System:
     """Build and start a system from a description and a controllers YAML.
 
@@ -58,6 +60,12 @@ def bringup(
         hardware_initial_state: Component name -> ``"unconfigured"``/``"inactive"``/``"active"``;
             overrides ``hardware_components_initial_state`` from the YAML. Unlisted components become active.
         name: System name for ``%control --system``; the robot name (plus a number if taken) by default.
+        package_path: Folders searched first for packages (``$(find pkg)``, ``package://pkg/...``), before
+            ``$RRBOT_WORKSHOP_PACKAGE_PATH`` and ``descriptions/``: source trees (a clone, a workspace's ``src/``)
+            or installed trees (see :mod:`rrbot_workshop.bringup.packages`).
+        mock_hardware: None: load the plugins as written. ``"unknown"``: every ``<hardware><plugin>`` the library
+            does not have becomes the mock of its component's type. ``"all"``: every component does. The
+            replaced plugins are logged and kept in ``system.mocked_hardware``.
 
     Returns:
         The running :class:`System` (it becomes the "current" one for the magics).
@@ -72,9 +80,17 @@ def bringup(
     """
     from rrbot_workshop.description import parse_ros2_control
 
-    urdf, package, source = description_to_urdf(description, xacro_args or {})
-    cfg = controllers_config(controllers, package)
+    from rrbot_workshop.bringup.packages import use_package_path
+    from rrbot_workshop.hardware_interface.resource_loading import mock_hardware_infos
+
+    package_path = [package_path] if isinstance(package_path, str | Path) else list(package_path or [])
+    urdf, package, source = description_to_urdf(description, xacro_args or {}, package_path)
+    cfg = controllers_config(controllers, package, package_path)
     infos = parse_ros2_control(urdf, source=source)
+    infos, mocked = mock_hardware_infos(infos, mock_hardware)
+    for component, original in mocked.items():
+        _log.info("hardware component '%s': plugin '%s' replaced by its mock '%s' (mock_hardware=%r)", component,
+                  original or "(none)", next(i.hardware_plugin_name for i in infos if i.name == component), mock_hardware)
     spawn, inactive = list(spawn), list(inactive)
     both = sorted(set(spawn) & set(inactive))
     if both:
@@ -85,10 +101,12 @@ def bringup(
 
     the_clock = make_clock(clock, cfg.update_rate)
     rm = ResourceManager(update_rate=cfg.update_rate, initial_states=hardware_initial_states(cfg, hardware_initial_state))
-    rm.load_hardware_infos(infos)
+    with use_package_path(package_path):  # simulated hardware resolves package:// meshes while it loads
+        rm.load_hardware_infos(infos)
     cm = ControllerManager(rm, TopicBus(), cfg.update_rate, urdf, cfg, the_clock)
     name = unique_name(urdf, name)
     system = System(name, urdf, infos, cm, the_clock)
+    system.mocked_hardware = mocked
     try:
         for ctrl in [*spawn, *inactive]:
             cm.load_controller(ctrl)

@@ -68,6 +68,7 @@ class System:
         resource_manager: The resource manager.
         controller_manager: The controller manager.
         clock: The loop's clock.
+        mocked_hardware: Component name -> the plugin that ``bringup(..., mock_hardware=...)`` replaced by a mock.
     """
 
     def __init__(
@@ -85,6 +86,7 @@ class System:
         self.resource_manager = controller_manager.resource_manager
         self.bus: TopicBus = controller_manager.bus
         self.clock = clock
+        self.mocked_hardware: dict[str, str] = {}
         self._running = True
         self._background: Any = None
         self._spin_listeners: list[Any] = []

@@ -76,6 +76,9 @@ def build_parser() -> argparse.ArgumentParser:
                         help="new folder for your description and bringup as ROS 2 packages (controlko_description, "
                              "controlko_bringup), from the current track")
     export.add_argument("--force", action="store_true", help="with --ros2: write into a folder that is not empty")
+    export.add_argument("--package-path", action="append", default=[], metavar="DIR",
+                        help="a folder with ROS packages (source or installed trees) to find $(find pkg) and "
+                             "package:// in (repeatable; searched before $RRBOT_WORKSHOP_PACKAGE_PATH)")
     export.add_argument("--withhold-references", action="store_true",
                         help="with --student: replace the library's worked answers (task 7's driver, task 8's "
                              "controller, task 13's planner) by stand-ins; the copy's README says what they do")
@@ -105,7 +108,34 @@ def build_parser() -> argparse.ArgumentParser:
                       help="a URDF or xacro file: also check that every interface a controller uses exists in it")
     lint.add_argument("--xacro-arg", action="append", default=[], metavar="NAME:=VALUE",
                       help="an argument for the xacro file(s), as xacro takes it (repeatable)")
+    _add_bringup_parser(sub)
     return parser
+
+
+def _add_bringup_parser(sub: Any) -> None:
+    """``bringup DESCRIPTION [--controllers YAML] [--package-path DIR]... [--mock-hardware unknown|all]
+    [--arg NAME:=VALUE]... [--spawn NAME]... [--inactive NAME]... [--seconds S]``."""
+    up = sub.add_parser("bringup", help="bring a robot up on the simulated clock, spawn controllers, spin, and print "
+                                        "its hardware, controllers and joint states")
+    up.add_argument("description", metavar="DESCRIPTION",
+                    help="a .urdf/.xacro file, package://pkg/path, $(find pkg)/path, or a package name")
+    up.add_argument("--controllers", metavar="YAML",
+                    help="controllers YAML: a path, package://pkg/path, $(find pkg)/path or a file name in the "
+                         "description package's config/")
+    up.add_argument("--package-path", action="append", default=[], metavar="DIR",
+                    help="a folder with ROS packages, source or installed trees (repeatable; searched before "
+                         "$RRBOT_WORKSHOP_PACKAGE_PATH and the course's descriptions/)")
+    up.add_argument("--mock-hardware", choices=("unknown", "all"),
+                    help="unknown: every hardware plugin the library does not have becomes the mock of its "
+                         "component's type; all: every component does")
+    up.add_argument("--arg", action="append", default=[], metavar="NAME:=VALUE",
+                    help="a xacro argument for the description, as xacro takes it (repeatable)")
+    up.add_argument("--spawn", action="append", default=[], metavar="NAME",
+                    help="a controller to load, configure and activate (repeatable; all in one strict switch)")
+    up.add_argument("--inactive", action="append", default=[], metavar="NAME",
+                    help="a controller to load and configure only, as the spawner's --inactive (repeatable)")
+    up.add_argument("--seconds", type=float, default=1.0, metavar="S",
+                    help="simulated seconds to spin after spawning (default 1)")
 
 
 def _check_grading_options(args: argparse.Namespace) -> None:
@@ -216,7 +246,10 @@ def _cmd_export(args: argparse.Namespace) -> int:
         if args.withhold_references:
             raise CourseError("--withhold-references", "--ros2", "only applies to a student copy (--student DIR)")
 
-        result = export_ros2(args.ros2, force=args.force)
+        from rrbot_workshop.bringup.packages import use_package_path
+
+        with use_package_path(args.package_path):
+            result = export_ros2(args.ros2, force=args.force)
         print(f"Wrote ROS 2 packages to {result.root}: {len(result.copied)} file(s) of yours copied as they are, "
               f"{len(result.generated)} generated (package.xml, CMakeLists.txt, launch file, README.md).")
         print(f"Read {result.root / 'README.md'} for what to build with colcon and what remains to write in C++.")
@@ -265,6 +298,95 @@ def _cmd_lint(args: argparse.Namespace) -> int:
             findings += lint_description(name, xacro_args)
     print(format_findings(findings))
     return LINT_ERRORS if any(f.level == "error" for f in findings) else 0
+
+
+def _bringup_args(pairs: Sequence[str]) -> dict[str, str]:
+    """``--arg NAME:=VALUE`` pairs of ``bringup`` -> a mapping (xacro arguments).
+
+    Raises:
+        CourseError: If a pair is not ``NAME:=VALUE`` with a xacro argument name.
+    """
+    out: dict[str, str] = {}
+    for pair in pairs:
+        name, sep, value = pair.partition(":=")
+        if not sep or not _XACRO_ARG_NAME.match(name) or any(c in value for c in "\n\r\x00"):
+            raise CourseError("--arg", pair, f"--arg {pair!r} must be NAME:=VALUE on one line, as xacro and "
+                              "ros2 launch take it, with NAME letters, digits and underscores",
+                              ["use_mock_hardware:=true"])
+        out[name] = value
+    return out
+
+
+def _format_value(value: Any) -> str:
+    return f"{value:.4f}" if isinstance(value, float) else str(value)
+
+
+def _cmd_bringup(args: argparse.Namespace) -> int:
+    """Bring up, spawn, spin ``--seconds`` and print what runs; any failure is one line and exit status 2."""
+    import logging
+
+    import rrbot_workshop as rw
+
+    seconds = args.seconds
+    if not math.isfinite(seconds) or seconds < 0:
+        raise CourseError("--seconds", seconds, f"--seconds must be a number of seconds of 0 or more, not {seconds:g}")
+    xacro_args = _bringup_args(args.arg)
+    if not logging.getLogger().handlers:  # bringup's INFO lines (what was mocked) and every warning, on stderr
+        logging.basicConfig(level=logging.WARNING, format="%(levelname)s %(name)s: %(message)s")
+    try:
+        system = rw.bringup(args.description, args.controllers, xacro_args=xacro_args, spawn=args.spawn,
+                            inactive=args.inactive, package_path=args.package_path, mock_hardware=args.mock_hardware, clock="sim")
+    except RRBotWorkshopError as exc:  # the whole message: a rejected switch lists its reasons on the next lines
+        print(f"rrbot-workshop: error: {str(exc).strip() or type(exc).__name__}", file=sys.stderr)
+        return USAGE_ERROR
+    except Exception as exc:  # noqa: BLE001 - a plugin's own bug: one message, not a traceback
+        raise CourseError("bringup", args.description, f"bringup failed: {type(exc).__name__}: {exc}") from exc
+    try:
+        system.spin(seconds)
+        _print_system(system)
+    finally:
+        system.shutdown()
+    return 0
+
+
+def _print_system(system: Any) -> None:
+    """The hardware components (plugins, mocks), controllers and joint states of a running system."""
+    cm, rm = system.controller_manager, system.resource_manager
+    print(f"System '{system.name}' at t = {system.time:.3f} s (simulated clock, {round(1 / system.period)} Hz)")
+    print("Hardware components:")
+    for comp in cm.list_hardware_components():
+        mocked = system.mocked_hardware.get(comp.name)
+        note = f"  [mock, replaces {mocked or '(no plugin)'}]" if mocked is not None else ""
+        print(f"  {comp.name}  {comp.type}  {comp.plugin_name}  {comp.state.label}{note}")
+    print("Controllers:")
+    listed = cm.list_controllers()
+    for ctrl in listed:
+        print(f"  {ctrl.name}  {ctrl.type}  {ctrl.state}")
+    if not listed:
+        print("  (none loaded; spawn them with --spawn NAME)")
+    print("Joint states:")
+    msg = system.latest("/joint_states")
+    if msg is not None and getattr(msg, "name", None):
+        for i, joint in enumerate(msg.name):
+            values = [(field, getattr(msg, field)) for field in ("position", "velocity", "effort")]
+            text = "  ".join(f"{field} {_format_value(v[i])}" for field, v in values if i < len(v))
+            print(f"  {joint}  {text}")
+        return
+    shown = False
+    for info in system.hardware_infos:
+        for joint in info.joints:
+            parts = []
+            for itf in joint.state_interfaces:
+                try:
+                    parts.append(f"{itf.name} {_format_value(rm.get_interface_value(f'{joint.name}/{itf.name}'))}")
+                except Exception:  # noqa: BLE001 - an interface that is not exported: leave it out
+                    continue
+            print(f"  {joint.name}  {'  '.join(parts)}")
+            shown = True
+    if not shown:
+        print("  (no joints)")
+    else:
+        print("  (read from the state interfaces: no joint_state_broadcaster publishes /joint_states)")
 
 
 def _cmd_init(args: argparse.Namespace) -> int:
@@ -320,6 +442,7 @@ _COMMANDS = {
     "reset": _cmd_reset,
     "export": _cmd_export,
     "lint": _cmd_lint,
+    "bringup": _cmd_bringup,
     "class-report": _cmd_class_report,
     "init": _cmd_init,
     "singleuser": _cmd_singleuser,

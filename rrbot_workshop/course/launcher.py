@@ -261,7 +261,7 @@ def test(root: Path, args: Sequence[str]) -> int:
 
 #: The course tool's commands, run from the course's environment: ``./workshop grade 1`` in any terminal is
 #: ``rrbot-workshop grade 1`` in JupyterLab's (where the environment is on the PATH).
-TOOL_COMMANDS = ("grade", "progress", "tasks", "reset", "export", "lint", "class-report", "init")
+TOOL_COMMANDS = ("grade", "progress", "tasks", "reset", "export", "lint", "class-report", "init", "bringup")
 
 USAGE = ("usage: python workshop.py start [jupyterlab options] | test [pytest options] | "
          f"{{{','.join(TOOL_COMMANDS)}}} ... (the rrbot-workshop tool)")

@@ -1,9 +1,13 @@
-"""Xacro processing without ROS: ``$(find <pkg>)`` and ``package://`` resolve to ``descriptions/<pkg>``.
+"""Xacro processing without ROS: ``$(find <pkg>)`` and ``package://`` resolve through the package path.
 
 The ``xacro`` package does the work. Two of its habits need care outside ROS:
 
 * ``$(find pkg)`` asks ``ament_index_python`` for the package's share folder. We swap that lookup for one that
-  searches :func:`descriptions_root`, only while :func:`process_xacro` runs, then put the original back.
+  searches the package path (:mod:`rrbot_workshop.bringup.packages`: the folders given to
+  :func:`~rrbot_workshop.bringup.packages.use_package_path`, ``$RRBOT_WORKSHOP_PACKAGE_PATH``, then
+  :func:`descriptions_root`), only while :func:`process_xacro` runs, then put the original back. A package found as
+  a source tree gives a folder that looks like its installed ``share/<pkg>`` (its ``CMakeLists.txt`` install rules
+  applied), so ``$(find pkg)/ros2_control/x.xacro`` finds ``<src>/description/ros2_control/x.xacro``.
 * ``xacro.process`` calls ``sys.exit`` on errors; we drive ``xacro.process_file`` instead and turn every failure
   into a :class:`~rrbot_workshop.exceptions.DescriptionError` that names the file.
 
@@ -51,34 +55,33 @@ def descriptions_root() -> Path:
 
 
 def available_packages() -> list[str]:
-    """Names of the description packages found under :func:`descriptions_root`, sorted."""
-    root = descriptions_root()
-    if not root.is_dir():
-        return []
-    return sorted(p.name for p in root.iterdir() if p.is_dir() and not p.name.startswith((".", "_")))
+    """Names of the packages on the package path (by default the folders of :func:`descriptions_root`), sorted."""
+    from rrbot_workshop.bringup.packages import package_index
+
+    return package_index().names()
 
 
 def find_package(package: str) -> Path:
-    """Folder of a description package, the stand-in for ROS' package share directory.
+    """The share folder of a package, the stand-in for ROS' ``get_package_share_directory``.
 
     Args:
         package: Package name, e.g. ``"rrbot"``.
 
     Returns:
-        ``descriptions_root() / package``.
+        ``descriptions_root() / package`` for the course's descriptions, the installed ``share/<pkg>`` folder, or
+        for a source tree the folder that looks like its installed form
+        (:func:`~rrbot_workshop.bringup.packages.share_directory`).
 
     Raises:
-        DescriptionError: If there is no such folder; the message lists the packages that exist.
+        DescriptionError: If there is no such package; the message lists the packages that exist and the path
+            searched.
     """
-    path = descriptions_root() / package
-    if not package or "/" in package or "\\" in package or not path.is_dir():
-        valid = ", ".join(available_packages()) or "none"
-        raise DescriptionError(
-            f"unknown package '{package}' (valid: {valid}); packages are the folders of {descriptions_root()}",
-            element="$(find)",
-            attribute=package,
-        )
-    return path
+    from rrbot_workshop.bringup.packages import share_directory
+
+    try:
+        return share_directory(package)
+    except DescriptionError as exc:
+        raise DescriptionError(str(exc), element="$(find)", attribute=package) from None
 
 
 def resolve_package_uri(uri: str, base: str | Path | None = None) -> Path:
@@ -95,11 +98,9 @@ def resolve_package_uri(uri: str, base: str | Path | None = None) -> Path:
         DescriptionError: If a ``package://`` URI names an unknown package or has no package name.
     """
     if uri.startswith("package://"):
-        rest = uri[len("package://"):]
-        package, _, relative = rest.partition("/")
-        if not package:
-            raise DescriptionError(f"URI '{uri}' has no package name (expected package://<pkg>/<path>)")
-        return find_package(package) / relative
+        from rrbot_workshop.bringup.packages import resolve_uri
+
+        return resolve_uri(uri, must_exist=False)
     if uri.startswith("file://"):
         return Path(uri[len("file://"):])
     path = Path(uri)
@@ -121,7 +122,9 @@ def _xacro_sandbox() -> Iterator[None]:
     """Redirect ``$(find)`` to :func:`find_package` and restore every xacro global afterwards."""
 
     def _eval_find(pkg: str) -> str:
-        return str(find_package(pkg))
+        from rrbot_workshop.bringup.packages import share_directory
+
+        return str(share_directory(pkg))
 
     saved_find = _subst._eval_find
     saved_eval_find = _subst._eval_dict.get("find")
@@ -209,6 +212,14 @@ def _as_description_error(err: Exception, file: Path) -> DescriptionError:
     if isinstance(inner, DescriptionError):
         text = str(inner)
         return DescriptionError(f"{text}{where}", source=str(file), element=inner.element, attribute=inner.attribute)
+    missing = _find_in_chain(err, FileNotFoundError)
+    if isinstance(missing, FileNotFoundError) and missing.filename:
+        from rrbot_workshop.bringup.packages import explain_missing
+
+        explained = explain_missing(missing.filename)
+        if explained is not None:  # a file missing from a source tree's install view: say where it was looked for
+            return DescriptionError(f"{explained}{where}", source=str(file), element=explained.element,
+                                    attribute=explained.attribute)
     expat = _find_in_chain(err, xml.parsers.expat.ExpatError)
     if expat is not None:
         stack = [f for f in (xacro.filestack or []) if f]

@@ -22,7 +22,10 @@ from rrbot_workshop.hardware_interface.resource_storage import InterfaceStorage
 from rrbot_workshop.middleware import plugins
 from rrbot_workshop.middleware.lifecycle import State
 
-__all__ = ["ComponentEntry", "check_infos", "load_component", "cycle_order"]
+__all__ = ["ComponentEntry", "check_infos", "load_component", "cycle_order", "mock_hardware_infos", "MOCK_MODES"]
+
+#: What ``bringup(..., mock_hardware=...)`` accepts: None (load the plugins as written), ``"unknown"``, ``"all"``.
+MOCK_MODES = (None, "unknown", "all")
 
 #: read/write order of component types, as in ros2_control: actuators, sensors, then systems.
 _TYPE_ORDER = {"actuator": 0, "sensor": 1, "system": 2}
@@ -86,8 +89,90 @@ def check_infos(
             cls = plugins.resolve("hardware", info.hardware_plugin_name)
         except PluginNotFound as exc:
             raise HardwareError(f"hardware component '{info.name}': {exc}") from exc
+        _check_plugin_type(info, cls)
         resolved.append((info, cls))
     return resolved
+
+
+def _check_plugin_type(info: HardwareInfo, cls: Any) -> None:
+    """Refuse a plugin on a component of another type, as Jazzy's loaders do.
+
+    Jazzy loads each ``<ros2_control>`` tag with the pluginlib loader of its ``type`` (``SystemInterface``,
+    ``ActuatorInterface`` or ``SensorInterface``); a plugin exported for another base class is not found.
+    ``mock_components/GenericSystem`` is exported only as a ``SystemInterface``.
+    """
+    wanted = info.type.lower()
+    kind = getattr(cls, "component_type", "")
+    if wanted not in _TYPE_ORDER or not kind or kind == wanted:
+        return
+    plugin = info.hardware_plugin_name
+    if plugin == "mock_components/GenericSystem":
+        fix = (f"write type=\"system\" on this <ros2_control> tag (GenericSystem mocks any joints, sensors and GPIOs "
+               f"as a system), or use the {wanted}'s own plugin (bringup(..., mock_hardware='unknown') mocks an "
+               f"unknown {wanted} plugin; mock_hardware='all' mocks every component by its type)")
+        why = "Jazzy exports GenericSystem only as a SystemInterface, so its plugin loader refuses it for"
+    else:
+        fix = f"write type=\"{kind}\" on the tag, or give a plugin written as a {wanted.capitalize()}Interface"
+        why = f"the plugin is a {kind.capitalize()}Interface; Jazzy's plugin loader refuses it for"
+    raise HardwareError(
+        f"hardware component '{info.name}' is <ros2_control type=\"{info.type}\"> with plugin '{plugin}': {why} a "
+        f"{wanted} component. Fix: {fix}"
+    )
+
+
+def mock_hardware_infos(infos: Sequence[HardwareInfo], mode: str | None) -> tuple[list[HardwareInfo], dict[str, str]]:
+    """Put the mock of each component's type in place of its plugin, as ``bringup(..., mock_hardware=mode)`` asks.
+
+    The mock of a system is ``mock_components/GenericSystem``; an actuator or a sensor gets the library's
+    ``rrbot_workshop/MockActuator`` or ``rrbot_workshop/MockSensor`` (Jazzy has no mock of those types; see
+    :mod:`rrbot_workshop.hardware.mock_substitutes`). The ``<hardware><param>`` values stay; the mocks read theirs.
+
+    Args:
+        infos: The parsed ``<ros2_control>`` tags.
+        mode: None (nothing changes), ``"unknown"`` (only plugins the library does not have) or ``"all"`` (every
+            component that is not already the mock of its type).
+
+    Returns:
+        ``(infos, mocked)``: the descriptions to load (copies where the plugin changed) and component name -> the
+        plugin it replaced.
+
+    Raises:
+        HardwareError: If ``mode`` is not one of :data:`MOCK_MODES`, or a component's type is not
+            system/actuator/sensor.
+    """
+    import dataclasses
+
+    from rrbot_workshop.hardware.mock_substitutes import MOCK_PLUGINS
+
+    if mode not in MOCK_MODES:
+        raise HardwareError(f"mock_hardware={mode!r} is not valid (valid: None, 'unknown', 'all')")
+    if mode is None:
+        return list(infos), {}
+    out: list[HardwareInfo] = []
+    mocked: dict[str, str] = {}
+    for info in infos:
+        plugin = info.hardware_plugin_name
+        mock = MOCK_PLUGINS.get(info.type.lower())
+        if mock is None:
+            raise HardwareError(f"hardware component '{info.name}' has type '{info.type}'; it cannot be mocked "
+                                "(valid types: system, actuator, sensor)")
+        replace = plugin != mock if mode == "all" else bool(plugin) and not _known(plugin)
+        if replace:
+            mocked[info.name] = plugin
+            info = dataclasses.replace(info, hardware_plugin_name=mock)
+        out.append(info)
+    return out, mocked
+
+
+def _known(plugin: str) -> bool:
+    """True if :func:`plugins.resolve` knows ``plugin`` (a resolver that fails still counts as known)."""
+    try:
+        plugins.resolve("hardware", plugin)
+    except PluginNotFound:
+        return False
+    except Exception:  # noqa: BLE001 - e.g. a learner's unfinished class: known, and its error shows at load
+        return True
+    return True
 
 
 def load_component(impl: Any, info: HardwareInfo, storage: InterfaceStorage, update_rate: int) -> ComponentEntry:

@@ -25,6 +25,9 @@ KINDS = ("hardware", "controller")
 _BUILTIN: dict[str, dict[str, str]] = {
     "hardware": {
         "mock_components/GenericSystem": "rrbot_workshop.hardware.mock:GenericSystem",
+        # the library's stand-ins for unknown actuator/sensor plugins (bringup's mock_hardware); not in Jazzy
+        "rrbot_workshop/MockActuator": "rrbot_workshop.hardware.mock_substitutes:MockActuator",
+        "rrbot_workshop/MockSensor": "rrbot_workshop.hardware.mock_substitutes:MockSensor",
         "rrbot_workshop/MujocoSystem": "rrbot_workshop.hardware.mujoco_system:MujocoSystem",
         # the library's task-7 driver under its own name, never re-mapped to a learner's file (notebook 07's fallback)
         "rrbot_workshop/RRBotHardwareInterface": "rrbot_workshop.hardware.rrbot:RRBotHardwareInterface",

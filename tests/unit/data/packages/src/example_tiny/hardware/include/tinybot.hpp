@@ -1,0 +1,1 @@
+// the drivers would be here
