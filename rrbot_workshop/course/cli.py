@@ -108,6 +108,12 @@ def build_parser() -> argparse.ArgumentParser:
                       help="a URDF or xacro file: also check that every interface a controller uses exists in it")
     lint.add_argument("--xacro-arg", action="append", default=[], metavar="NAME:=VALUE",
                       help="an argument for the xacro file(s), as xacro takes it (repeatable)")
+    lint.add_argument("--arg", action="append", default=[], metavar="NAME:=VALUE",
+                      help="a launch argument: its value replaces $(var NAME) in the YAML files, as ros2 launch "
+                           "substitutes a parameter file (repeatable)")
+    lint.add_argument("--package-path", action="append", default=[], metavar="DIR",
+                      help="a folder holding ROS packages (source or install trees) where the description's "
+                           "$(find pkg) and package:// are looked up (repeatable)")
     _add_bringup_parser(sub)
     return parser
 
@@ -269,19 +275,25 @@ def _cmd_export(args: argparse.Namespace) -> int:
     return 0
 
 
-def _xacro_args(pairs: Sequence[str]) -> dict[str, str]:
+def _xacro_args(pairs: Sequence[str], option: str = "--xacro-arg",
+                example: str = "use_mock_hardware:=true") -> dict[str, str]:
+    """``NAME:=VALUE`` pairs of ``option`` as a mapping (the last value of a name wins).
+
+    Raises:
+        CourseError: For a pair without ``:=``, a name that is not an identifier, or a value on several lines.
+    """
+    what = "xacro" if option == "--xacro-arg" else "ros2 launch"
     out: dict[str, str] = {}
     for pair in pairs:
         name, sep, value = pair.partition(":=")
         if not sep or not name:
-            raise CourseError("--xacro-arg", pair, f"--xacro-arg {pair!r} must be NAME:=VALUE, as xacro takes it",
-                              ["use_mock_hardware:=true"])
+            raise CourseError(option, pair, f"{option} {pair!r} must be NAME:=VALUE, as {what} takes it", [example])
         if not _XACRO_ARG_NAME.match(name):
-            raise CourseError("--xacro-arg", pair, f"--xacro-arg {pair!r} has the name {name!r}; a xacro argument name is letters, digits "
-                              "and underscores, not starting with a digit", ["use_mock_hardware:=true"])
+            raise CourseError(option, pair, f"{option} {pair!r} has the name {name!r}; an argument name is letters, "
+                              "digits and underscores, not starting with a digit", [example])
         if any(c in value for c in "\n\r\x00"):
-            raise CourseError("--xacro-arg", pair, f"--xacro-arg {pair!r} has a line break or NUL in the value of {name!r}; give a value on "
-                              "one line", ["use_mock_hardware:=true"])
+            raise CourseError(option, pair, f"{option} {pair!r} has a line break or NUL in the value of {name!r}; give "
+                              "a value on one line", [example])
         out[name] = value
     return out
 
@@ -290,12 +302,15 @@ def _cmd_lint(args: argparse.Namespace) -> int:
     from rrbot_workshop.course.lint import format_findings, lint_controllers, lint_description
 
     xacro_args = _xacro_args(args.xacro_arg)
+    launch_args = _xacro_args(args.arg, "--arg", "joint_prefix:=rrbot_")
+    package_path = [str(Path(p).expanduser()) for p in args.package_path]
     findings = []
     for name in args.files:
         if Path(name).suffix.lower() in (".yaml", ".yml"):
-            findings += lint_controllers(name, args.description, xacro_args)
+            findings += lint_controllers(name, args.description, xacro_args, launch_args=launch_args,
+                                         package_path=package_path)
         else:
-            findings += lint_description(name, xacro_args)
+            findings += lint_description(name, xacro_args, package_path=package_path)
     print(format_findings(findings))
     return LINT_ERRORS if any(f.level == "error" for f in findings) else 0
 

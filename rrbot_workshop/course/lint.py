@@ -1,28 +1,32 @@
 """``rrbot-workshop lint``: check a controllers YAML (and a description) against what ROS 2 Jazzy accepts.
 
 A learner's files are meant to carry over to a real robot unchanged, so the checks are the ones a Jazzy
-``controller_manager`` and the ``ros2_controllers`` would make when the file is loaded there, reported all at
-once instead of one at a time at bringup:
+``controller_manager``, its spawner and the ``ros2_controllers`` would make when the file is loaded there, reported
+all at once instead of one at a time at bringup:
 
-* the file parses and has the ``<node>: ros__parameters:`` layout;
+* launch arguments (``$(var name)``) are substituted first, as ``ros2 launch`` does; one without a value is
+  reported once;
+* the file parses and has the ``<node>: ros__parameters:`` layout; node keys apply to nodes as rclcpp matches them
+  (``/rrbot_1/controller_manager``, ``/**/controller_manager``, ``/**``), so each controller manager of the file is
+  checked with its own controllers (:mod:`rrbot_workshop.course.lint_layout`);
 * ``controller_manager`` parameters are known to Jazzy, with their types (unknown names get the closest valid one);
-* each controller has a known ``type`` (the closest known type is suggested);
+* each controller has a known ``type``, given in the manager's ``<name>.type`` or in the controller's own section
+  (the spawner reads it there); a type that resolves to a learner's unfinished exercise says so;
 * each controller's parameters: unknown or misspelt names, wrong types, missing required values, failed
-  validations (as generate_parameter_library checks them);
-* keys removed or with changed defaults between Humble and Jazzy;
-* with a description: every interface a controller claims or reads exists in the ``<ros2_control>`` tags
-  (or is a reference interface of another controller in the file);
-* a description's ``<hardware>`` holds exactly one ``<plugin>`` (Jazzy's parser would silently take the first).
+  validations (as generate_parameter_library checks them), the parameters every controller has, deprecated ones
+  as notes (:mod:`rrbot_workshop.course.lint_parameters`);
+* with a description: every interface a controller claims or reads exists in the ``<ros2_control>`` tags or is
+  exported by a chainable controller of the same manager (reference and state interfaces), and the description's
+  ``<hardware>`` blocks are sound (:mod:`rrbot_workshop.course.lint_urdf`).
 
 :func:`lint_controllers` returns :class:`Finding` records; the CLI prints them as ``FILE:LINE: level: message``.
-This module reads the files and checks the types and the interfaces; the checks of parameter values are in
-:mod:`rrbot_workshop.course.lint_parameters`.
 """
 
 from __future__ import annotations
 
 import contextlib
 import logging
+import re
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -30,20 +34,40 @@ from typing import Any
 
 import yaml
 
+from rrbot_workshop.course.lint_classes import (
+    Interfaces,
+    captured,
+    controller_interfaces,
+    hardware_interfaces,
+    learner_file,
+    quiet,
+    reason,
+)
+from rrbot_workshop.course.lint_layout import (
+    MANAGER_ENTRY_KEYS,
+    Controller,
+    KeyLines,
+    Manager,
+    Section,
+    read_layout,
+    read_sections,
+    substitute,
+    unresolved,
+)
 from rrbot_workshop.course.lint_parameters import (
     CONTROLLER_MANAGER_PARAMETERS,
     check_parameters,
     closest,
     manager_findings,
+    rate_findings,
 )
-from rrbot_workshop.exceptions import DescriptionError, ParameterError, PluginNotFound, RRBotWorkshopError
+from rrbot_workshop.course.lint_urdf import parse_description
+from rrbot_workshop.exceptions import PluginNotFound, RRBotWorkshopError
 from rrbot_workshop.middleware import plugins
-from rrbot_workshop.middleware.controllers_yaml import load_controllers_yaml
-from rrbot_workshop.middleware.params import ParameterSchema
+from rrbot_workshop.middleware.params import ParameterSchema, flatten
 from rrbot_workshop.middleware.text_files import MAX_DEPTH, SAFE_LOADER, nesting_depth, paused_gc, read_text
 
 __all__ = ["Finding", "CONTROLLER_MANAGER_PARAMETERS", "lint_controllers", "lint_description", "format_findings"]
-
 
 @dataclass(frozen=True)
 class Finding:
@@ -69,275 +93,340 @@ class Finding:
         return f"{self.source}{line}: {self.level}: {self.where}: {self.message}"
 
 
-class _Lines:
-    """Line numbers of the keys of a YAML document, by path of keys."""
-
-    def __init__(self, text: str) -> None:
-        self._text = text
-        self._lines: dict[tuple[str, ...], int] = {}
-        self._nodes: dict[str, str] = {}  # node name -> its first top-level key (an index: lookups stay O(1))
-        self._built = False
-
-    def _build(self) -> None:
-        """Compose the document once, when the first finding needs a line (a clean file never pays for it)."""
-        self._built = True
-        try:
-            with paused_gc():
-                node = yaml.compose(self._text, Loader=SAFE_LOADER)
-        except (yaml.YAMLError, RecursionError):
-            node = None
-        if node is not None:
-            self._walk(node, ())
-        for key in self._lines:
-            if len(key) == 1:
-                self._nodes.setdefault(key[0].strip("/").split("/")[-1], key[0])
-
-    def _walk(self, node: yaml.Node, path: tuple[str, ...]) -> None:
-        stack = [(node, path)]  # iterative: a deep file must not exhaust Python's recursion
-        while stack:
-            current, prefix = stack.pop()
-            if isinstance(current, yaml.MappingNode):
-                for key, value in reversed(current.value):
-                    child = (*prefix, str(key.value))
-                    self._lines.setdefault(child, key.start_mark.line + 1)
-                    stack.append((value, child))
-
-    def find(self, *path: str) -> int:
-        """Line of the deepest key of ``path`` that exists (0 if none)."""
-        if not self._built:
-            self._build()
-        for end in range(len(path), 0, -1):
-            if path[:end] in self._lines:
-                return self._lines[path[:end]]
-        return 0
-
-    def node_key(self, name: str) -> str | None:
-        """The top-level key naming node ``name`` (``name``, ``/name`` or ``/**/name``)."""
-        if not self._built:
-            self._build()
-        return self._nodes.get(name)
-
-
-def _interfaces_of(infos: Sequence[Any]) -> tuple[set[str], set[str]]:
-    commands: set[str] = set()
-    states: set[str] = set()
-    for info in infos:
-        for component in [*info.joints, *info.sensors, *info.gpios]:
-            commands.update(f"{component.name}/{i.name}" for i in component.command_interfaces)
-            states.update(f"{component.name}/{i.name}" for i in component.state_interfaces)
-    return commands, states
-
-
-def _controller_interfaces(
-    cls: Any, name: str, values: Mapping[str, Any], urdf: str
-) -> tuple[list[str], list[str], list[str]]:
-    """Command, state and reference interface names the controller asks for once configured."""
-    from rrbot_workshop.controller_interface.base import ChainableControllerInterface, InterfaceConfigurationType
-    from rrbot_workshop.testing import ControllerHarness
-
-    controller = cls()
-    harness = ControllerHarness(controller, name, values, state_values={}, command_values={}, robot_description=urdf)
-    harness.configure()
-
-    def names(config: Any) -> list[str]:
-        if config is None or config.type is not InterfaceConfigurationType.INDIVIDUAL:
-            return []
-        return list(config.names)
-
-    references: list[str] = []
-    if isinstance(controller, ChainableControllerInterface):
-        references = [handle.name for handle in controller.export_reference_interfaces()]
-    return (
-        names(controller.command_interface_configuration()),
-        names(controller.state_interface_configuration()),
-        references,
-    )
-
-
-@contextlib.contextmanager
-def _quiet() -> Any:
-    """The library logs what it ignores while the checks run; the findings say it instead."""
-    logger = logging.getLogger("rrbot_workshop")
-    level = logger.level
-    logger.setLevel(logging.CRITICAL)
-    try:
-        yield
-    finally:
-        logger.setLevel(level)
-
-
 def lint_controllers(path: str | Path, description: str | Path | None = None,
-                     xacro_args: Mapping[str, Any] | None = None) -> list[Finding]:
+                     xacro_args: Mapping[str, Any] | None = None, launch_args: Mapping[str, str] | None = None,
+                     package_path: Sequence[str | Path] = ()) -> list[Finding]:
     """Check a controllers YAML, and, with ``description``, the interfaces its controllers use.
 
     Args:
         path: The controllers YAML file.
         description: A URDF or xacro file whose ``<ros2_control>`` tags declare the interfaces, or None.
         xacro_args: Arguments for the xacro file.
+        launch_args: Values of the launch arguments the YAML uses as ``$(var name)`` (as ``ros2 launch``
+            substitutes them in a parameter file).
+        package_path: Folders searched for the packages the description names (``$(find pkg)``,
+            ``package://``).
 
     Returns:
-        Every finding, errors and warnings, in file order.
+        Every finding (errors, warnings, notes), in file order.
     """
-    with _quiet():
-        return _lint_controllers(path, description, xacro_args)
+    with quiet():
+        return _Linter(str(path), launch_args or {}).run(path, description, xacro_args or {}, package_path)
 
 
-def _lint_controllers(path: str | Path, description: str | Path | None,
-                      xacro_args: Mapping[str, Any] | None) -> list[Finding]:
-    source = str(path)
-    text, problem = read_text(path)
-    if problem:
-        return [Finding("error", source, 0, "file", problem)]
-    findings: list[Finding] = []
-    try:
-        with paused_gc():
-            data = yaml.load(text, Loader=SAFE_LOADER)  # noqa: S506 - a safe loader
-    except yaml.YAMLError as exc:
-        mark = getattr(exc, "problem_mark", None)
-        line = mark.line + 1 if mark is not None else 0
-        column = f", column {mark.column + 1}" if mark is not None else ""
-        problem = getattr(exc, "problem", None) or str(exc)
-        return [Finding("error", source, line, "YAML", f"does not parse (line {line}{column}): {problem}")]
-    except RecursionError:
-        data = None
-        problem = "is nested too deeply to read"
-    else:
-        problem = "is nested too deeply to read" if nesting_depth(data) > MAX_DEPTH else ""
-    if problem:
-        return [Finding("error", source, 0, "YAML", f"{problem} (more than {MAX_DEPTH} levels)")]
-    try:
-        cfg = load_controllers_yaml(data if isinstance(data, Mapping) else text)
-        cfg.source = source
-    except ParameterError as exc:
-        if exc.parameter == "<string>":  # about the whole file: say it as the other file problems are said
-            return [Finding("error", source, 0, "file", str(exc).split("': ", 1)[-1])]
-        return [Finding("error", source, 0, exc.parameter.replace("<string>: ", ""), str(exc).replace("<string>", source))]
-    lines = _Lines(text)  # line numbers are worked out when the first finding needs one
+class _Linter:
+    """One run of :func:`lint_controllers` over one file."""
 
-    def at(node: str, *keys: str) -> Any:
-        def report(level: str, where: str, message: str) -> None:
-            path = [*keys, *where.split(".")] if where else list(keys)
-            line = lines.find(lines.node_key(node) or node, "ros__parameters", *path)
-            findings.append(Finding(level, source, line, ".".join([node, *path]), message))
+    def __init__(self, source: str, launch_args: Mapping[str, str]) -> None:
+        self.source = source
+        self.launch_args = launch_args
+        self.findings: list[Finding] = []
+        self.lines: KeyLines = KeyLines("")
+        self.single = True  # one manager at the root: findings name controllers without their namespace
+
+    def add(self, level: str, line: int, where: str, message: str) -> None:
+        self.findings.append(Finding(level, self.source, line, where, message))
+
+    # ----------------------------------------------------------------- reading
+    def read(self, path: str | Path) -> list[Section] | None:
+        """The file's sections, or None after the finding that says why it cannot be read."""
+        text, problem = read_text(path)
+        if problem:
+            self.add("error", 0, "file", problem)
+            return None
+        text, missing = substitute(text, self.launch_args)
+        for name in missing:
+            use = re.compile(r"\$\(\s*var\s+" + re.escape(name) + r"\s*\)")
+            line = next((i for i, row in enumerate(text.splitlines(), 1) if use.search(row)), 0)
+            self.add("error", line, f"$(var {name})",
+                     f"the launch argument '{name}' has no value here; give it as the launch file would "
+                     f"(--arg {name}:=VALUE, or launch_args={{'{name}': ...}}). Values that use it are not checked")
+        try:
+            with paused_gc():
+                data = yaml.load(text, Loader=SAFE_LOADER)  # noqa: S506 - a safe loader
+        except yaml.YAMLError as exc:
+            mark = getattr(exc, "problem_mark", None)
+            line = mark.line + 1 if mark is not None else 0
+            column = f", column {mark.column + 1}" if mark is not None else ""
+            problem = getattr(exc, "problem", None) or str(exc)
+            self.add("error", line, "YAML", f"does not parse (line {line}{column}): {problem}")
+            return None
+        except RecursionError:
+            data, problem = None, "is nested too deeply to read"
+        else:
+            problem = "is nested too deeply to read" if nesting_depth(data) > MAX_DEPTH else ""
+        if problem:
+            self.add("error", 0, "YAML", f"{problem} (more than {MAX_DEPTH} levels)")
+            return None
+        if data is None:
+            self.add("error", 0, "file", "is empty; it needs a 'controller_manager:' entry with 'ros__parameters:' "
+                                         "(update_rate and the controllers' types)")
+            return None
+        if not isinstance(data, Mapping):
+            self.add("error", 0, "file", "must be a mapping of node names to 'ros__parameters'")
+            return None
+        self.lines = KeyLines(text)
+        sections, problems = read_sections(data)
+        for keys, message in problems:
+            self.add("error", self.lines.find(*keys), ".".join(keys), message)
+        return sections
+
+    # ----------------------------------------------------------------- where
+    def label(self, controller: Controller | Manager | str) -> str:
+        if isinstance(controller, str):
+            return controller
+        return controller.fqn.rsplit("/", 1)[-1] if self.single else controller.fqn
+
+    def section_of(self, sections: Sequence[Section], key: str) -> Section | None:
+        """The last of ``sections`` that gives ``key`` (dotted), or None."""
+        parts = key.split(".") if key else []
+        for section in reversed(sections):
+            if key and (key in flatten(section.params) or parts[0] in section.params):
+                return section
+        return None
+
+    def line_of(self, sections: Sequence[Section], key: str) -> int:
+        """Line of ``key`` (dotted) in the last of ``sections`` that gives it, else of the first section."""
+        section = self.section_of(sections, key)
+        if section is None:
+            return self.lines.find(*sections[0].path) if sections else 0
+        parts = key.split(".")
+        base = (*section.path, "ros__parameters")
+        for cut in range(len(parts), 0, -1):  # 'linear.x.max_velocity' may be one YAML key or three
+            line = self.lines.exact(*base, *parts[:cut - 1], ".".join(parts[cut - 1:]))
+            if line:
+                return line
+        return self.lines.find(*base, *parts)
+
+    def reporter(self, controller: Controller) -> Any:
+        sections = controller.specific_sections() or controller.sections or [s for s, _ in controller.type_sections]
+
+        def report(level: str, key: str, message: str) -> None:
+            section = self.section_of(sections, key)
+            # a value from a section every namespace shares ('/**/name') is named by that section's key
+            label = section.key if section is not None and section.namespace is None and not self.single \
+                else self.label(controller)
+            line = self.line_of(sections, key) if sections else 0
+            self.add(level, line, ".".join(p for p in (label, key) if p), message)
 
         return report
 
-    manager_findings(cfg, at("controller_manager"))
-    known_types = plugins.available("controller")
-    classes: dict[str, Any] = {}
-    for name, ctype in cfg.controller_types.items():
-        report = at("controller_manager", name)
+    # ----------------------------------------------------------------- checks
+    def run(self, path: str | Path, description: str | Path | None, xacro_args: Mapping[str, Any],
+            package_path: Sequence[str | Path]) -> list[Finding]:
+        sections = self.read(path)
+        if sections is not None:
+            layout = read_layout(sections)
+            self.single = len(layout.managers) == 1 and layout.managers[0].namespace == "/"
+            urdf: str | None = None
+            infos: list[Any] = []
+            if description is not None:
+                urdf, infos, problems = parse_description(description, xacro_args, package_path)
+                self.findings.extend(Finding(level, str(description), 0, where, message)
+                                     for level, where, message in problems)
+            for manager in layout.managers:
+                self.check_manager(manager, urdf, infos, Path(description).name if description else "")
+            if layout.managers:
+                names = {n for m in layout.managers for n in m.controllers}
+                manager_key = "/".join(layout.managers[0].sections[0].path) if layout.managers[0].sections \
+                    else "controller_manager"
+                for section in layout.unclaimed:
+                    if not (closest(section.name, names) or _controller_like(section.params)):
+                        continue  # another node's parameters (a publisher, robot_state_publisher): not lint's business
+                    self.add("warning", self.lines.find(*section.path), section.key,
+                             f"parameters for '{section.key}', but no controller manager of this file has a controller "
+                             f"of that name with a 'type' (in '{manager_key}' or in the section itself)"
+                             f"{closest(section.name, names)}")
+        unique = list(dict.fromkeys((f.level, f.source, f.line, f.message, f.where) for f in self.findings))
+        seen: set[tuple[str, str, int, str]] = set()
+        out = []
+        for level, source, line, message, where in unique:
+            if (level, source, line, message) not in seen:  # a section shared by two managers: said once
+                seen.add((level, source, line, message))
+                out.append(Finding(level, source, line, where, message))
+        return sorted(out, key=lambda f: (f.source != self.source, f.line == 0, f.line))
+
+    def check_manager(self, manager: Manager, urdf: str | None, infos: Sequence[Any], description: str) -> None:
+        own = [s for s in manager.sections if not s.wildcard_name]
+        label = self.label(manager)
+
+        def report(level: str, key: str, message: str) -> None:
+            self.add(level, self.line_of(own, key), f"{label}.{key}", message)
+
+        params = {}
+        for section in own:
+            params.update({k: v for k, v in section.params.items() if k not in manager.controllers
+                           and not (isinstance(v, Mapping) and v and set(v) <= set(MANAGER_ENTRY_KEYS))})
+        manager_findings(params, report)
+        rate = manager.parameters().get("update_rate", 100)
+        exports: dict[str, Interfaces] = {}
+        for controller in manager.controllers.values():
+            for key in controller.manager_entry:
+                if key not in MANAGER_ENTRY_KEYS:
+                    report("warning", f"{controller.name}.{key}",
+                           f"'{controller.name}.{key}' is a parameter of the controller manager, not of controller "
+                           f"'{controller.name}': give it in the controller's own section "
+                           f"('{controller.name}: ros__parameters: {key}: ...')")
+            interfaces = self.check_controller(controller, rate, urdf, label)
+            if interfaces is not None:
+                exports[controller.name] = interfaces
+        if urdf is not None:
+            self.interface_findings(manager, description, infos, exports)
+
+    def check_controller(self, controller: Controller, rate: Any, urdf: str | None,
+                         manager_label: str) -> Interfaces | None:
+        report = self.reporter(controller)
+        section, keys = controller.type_sections[-1]  # the type that counts: the spawner's, else the manager's
+        type_line = self.lines.find(*section.path, "ros__parameters", *keys)
+        type_where = f"{manager_label}.{controller.name}.type" if len(keys) > 1 else f"{self.label(controller)}.type"
+
+        def report_type(level: str, message: str) -> None:
+            self.add(level, type_line, type_where, message)
+
+        types = list(dict.fromkeys(str(t) for s, k in controller.type_sections
+                                   for t in [_get(s.params, k)] if t is not None))
+        ctype = controller.type
+        if len(types) > 1:
+            report_type("warning", f"two types are given for '{controller.name}' ({', '.join(types)}); the "
+                                   f"spawner sets the one of the controller's own section, '{ctype}'")
+        if not isinstance(ctype, str) or "/" not in ctype:
+            report_type("error", f"'{ctype}' is not a plugin type string such as 'package/ClassName'")
+            return None
+        if unresolved(ctype):
+            return None
+        with captured("rrbot_workshop.course.tracks") as log:
+            try:
+                cls = plugins.resolve("controller", ctype)
+            except PluginNotFound:
+                report_type("error", f"unknown controller type '{ctype}': no controller of that type is available "
+                                     f"here{closest(ctype, plugins.available('controller'))}")
+                return None
+            except RRBotWorkshopError as exc:
+                report_type("error", f"type '{ctype}' cannot be loaded: {exc}")
+                return None
+        for record in log.records:
+            report_type("warning", f"'{ctype}' resolves to your unfinished exercise: {record.getMessage()}")
+        learner = learner_file(cls)
         try:
-            classes[name] = plugins.resolve("controller", ctype)
-        except PluginNotFound:
-            report("error", "type", f"unknown controller type '{ctype}'{closest(ctype, known_types)}")
-        except RRBotWorkshopError as exc:
-            report("error", "type", f"type '{ctype}' cannot be loaded: {exc}")
-    for node in cfg.controller_parameters:
-        if node != "/**" and node not in cfg.controller_types:
-            line = lines.find(lines.node_key(node) or node)
-            manager_key = lines.node_key("controller_manager") or "controller_manager"
-            findings.append(Finding(
-                "warning", source, line, node,
-                f"parameters for '{node}', but '{manager_key}' declares no controller of that name with a 'type'"
-                f"{closest(node, cfg.controller_types)}",
-            ))
-    infos: list[Any] = []
-    urdf: str | None = None
-    if description is not None:
-        urdf, infos, problems = _parse_description(description, xacro_args or {})
-        findings.extend(problems)
-    interfaces: dict[str, tuple[list[str], list[str], list[str]]] = {}
-    failed_parameters: set[str] = set()  # controllers with an error among their parameters (one lookup each)
-    schemas: dict[str, ParameterSchema] = {}  # parsed once per type, not once per controller
-    for name, cls in classes.items():
-        values = cfg.parameters_for(name)
+            return self.check_class(controller, ctype, cls, rate, urdf, report, report_type)
+        except Exception as exc:  # noqa: BLE001 - a class that fails is a finding, never a traceback
+            if learner is None:
+                raise
+            report_type("error", f"'{ctype}' resolves to your unfinished {learner}: {reason(exc)}")
+            return None
+
+    def check_class(self, controller: Controller, ctype: str, cls: Any, rate: Any, urdf: str | None,
+                    report: Any, report_type: Any) -> Interfaces | None:
+        values = controller.parameters()
+        flat = flatten(values)
+        skip = {k for k, v in flat.items() if unresolved(v)}
+        shared = set(flat) - {k for s in controller.specific_sections() for k in flatten(s.params)}
+        errors_before = sum(f.level == "error" for f in self.findings)
+        rate_findings(values, rate, report)
         schema_text = getattr(cls, "PARAMETERS", None)
         if schema_text:
-            schema = schemas.get(schema_text)
-            if schema is None:
-                schema = schemas[schema_text] = ParameterSchema(schema_text)
-            errors_before = len(findings)
-            check_parameters(name, cfg.controller_types[name], schema, values, at(name))
-            if any(f.level == "error" for f in findings[errors_before:]):
-                failed_parameters.add(name)
-        if urdf is not None:
+            check_parameters(controller.name, ctype, ParameterSchema(schema_text), values, report, shared, skip)
+        failed = sum(f.level == "error" for f in self.findings) > errors_before
+        learner = learner_file(cls)
+        if (urdf is None and learner is None) or skip:
+            return None
+        values.pop("type", None)
+        failure: Exception | None = None
+        with captured("rrbot_workshop") as log:
             try:
-                interfaces[name] = _controller_interfaces(cls, name, values, urdf)
-            except RRBotWorkshopError as exc:
-                if name not in failed_parameters:
-                    at(name)("error", "", f"cannot be configured with these parameters: {exc}")
-    if urdf is not None and description is not None:
-        findings.extend(_interface_findings(source, Path(description).name, infos, interfaces, lines))
-    return sorted(findings, key=lambda f: (f.line == 0, f.line))
+                interfaces = controller_interfaces(cls, controller.name, values, urdf or "",
+                                                    rate if isinstance(rate, int) and rate > 0 else 100)
+            except Exception as exc:  # noqa: BLE001 - a learner's class may raise anything
+                if learner is None and not isinstance(exc, RRBotWorkshopError):
+                    raise
+                failure = exc
+        if learner is not None:
+            problems = [r for r in log.records if r.exc_info or r.levelno >= logging.ERROR]
+            if problems or failure is not None:
+                first = problems[0] if problems else None
+                if first is not None and first.exc_info and first.exc_info[1] is not None:
+                    why = reason(first.exc_info[1])
+                else:
+                    why = first.getMessage() if first is not None else reason(failure)  # type: ignore[arg-type]
+                report_type("error", f"'{ctype}' resolves to your unfinished {learner}: {why}")
+                return None
+        if failure is not None:
+            if not failed:
+                report("error", "", f"cannot be configured with these parameters: {failure}")
+            return None
+        return interfaces if urdf is not None else None
+
+    def interface_findings(self, manager: Manager, description: str, infos: Sequence[Any],
+                           exports: Mapping[str, Interfaces]) -> None:
+        commands, states = hardware_interfaces(infos)
+        references = {ref for itf in exports.values() for ref in itf.references}
+        exported = {state for itf in exports.values() for state in itf.exported_states}
+        # a controller that could not be configured exports nothing known: what others take from it is not judged
+        unknown = tuple(f"{name}/" for name in manager.controllers if name not in exports)
+        for name, itf in exports.items():
+            controller = manager.controllers[name]
+            sections = controller.specific_sections() or controller.sections
+            line = self.lines.find(*sections[0].path) if sections else 0
+            label = self.label(controller)
+            for item in itf.commands:
+                if item not in commands and item not in references and not item.startswith(unknown):
+                    self.add("error", line, label,
+                             f"claims command interface '{item}', which {description} does not declare and no "
+                             f"chainable controller exports{closest(item, commands | references)}")
+            for item in itf.states:
+                if item not in states and item not in exported and not item.startswith(unknown):
+                    self.add("error", line, label,
+                             f"reads state interface '{item}', which {description} does not declare and no "
+                             f"chainable controller exports{closest(item, states | exported)}")
 
 
-def _interface_findings(source: str, description: str, infos: Sequence[Any],
-                        interfaces: Mapping[str, tuple[list[str], list[str], list[str]]], lines: _Lines) -> list[Finding]:
-    commands, states = _interfaces_of(infos)
-    references = {ref for (_, _, refs) in interfaces.values() for ref in refs}
-    out = []
-    for name, (cmds, sts, _) in interfaces.items():
-        line = lines.find(lines.node_key(name) or name)
-        for itf in cmds:
-            if itf not in commands and itf not in references:
-                out.append(Finding("error", source, line, name,
-                                   f"claims command interface '{itf}', which {description} does not declare"
-                                   f"{closest(itf, commands | references)}"))
-        for itf in sts:
-            if itf not in states:
-                out.append(Finding("error", source, line, name,
-                                   f"reads state interface '{itf}', which {description} does not declare"
-                                   f"{closest(itf, states)}"))
-    return out
+def _controller_like(params: Mapping[str, Any]) -> bool:
+    """Whether a section gives a parameter that some controller type declares (``joints``, ``interface_name``...)."""
+    global _DECLARED_TOP_LEVEL
+    if _DECLARED_TOP_LEVEL is None:
+        names: set[str] = set()
+        for ctype in plugins.available("controller"):
+            with contextlib.suppress(Exception):  # a type that does not load has nothing to offer here
+                text = getattr(plugins.resolve("controller", ctype), "PARAMETERS", None)
+                if text:
+                    names.update(d.path[0] for d in ParameterSchema(text).declarations)
+        _DECLARED_TOP_LEVEL = frozenset(names)
+    return any(str(key) in _DECLARED_TOP_LEVEL for key in params)
 
 
-def _parse_description(
-    description: str | Path, xacro_args: Mapping[str, Any]
-) -> tuple[str | None, list[Any], list[Finding]]:
-    """URDF text and hardware infos of a description, or the finding that says why it cannot be read."""
-    from rrbot_workshop.description import parse_ros2_control, process_xacro
-
-    source = str(description)
-    try:
-        urdf = process_xacro(description, **xacro_args)
-        return urdf, parse_ros2_control(urdf, source=source), _plugin_findings(source, urdf)
-    except DescriptionError as exc:
-        return None, [], [Finding("error", source, 0, exc.element or "description", str(exc))]
+_DECLARED_TOP_LEVEL: frozenset[str] | None = None
 
 
-def _plugin_findings(source: str, urdf: str) -> list[Finding]:
-    """A ``<hardware>`` with more than one ``<plugin>``: Jazzy's parser takes the first and says nothing."""
-    import xml.etree.ElementTree as ET
-
-    from rrbot_workshop.description.urdf_model import local_name
-
-    out = []
-    for tag in ET.fromstring(urdf.lstrip()):
-        if not isinstance(tag.tag, str) or local_name(tag) != "ros2_control":
-            continue
-        for hardware in (c for c in tag if isinstance(c.tag, str) and local_name(c) == "hardware"):
-            names = [(p.text or "").strip() for p in hardware if isinstance(p.tag, str) and local_name(p) == "plugin"]
-            if len(names) > 1:
-                out.append(Finding(
-                    "error", source, 0, f"<ros2_control name='{tag.get('name', '')}'><hardware>",
-                    f"holds {len(names)} <plugin> tags ({', '.join(names)}); a <hardware> block takes exactly one. "
-                    f"Jazzy's parser would silently use the first ({names[0]}) and ignore the rest. With "
-                    "<xacro:if>/<xacro:unless>, check that exactly one branch is taken for every value of its "
-                    "argument",
-                ))
-    return out
+def _get(params: Mapping[str, Any], keys: tuple[str, ...]) -> Any:
+    value: Any = params
+    for key in keys:
+        if not isinstance(value, Mapping):
+            return None
+        value = value.get(key)
+    return value
 
 
-def lint_description(path: str | Path, xacro_args: Mapping[str, Any] | None = None) -> list[Finding]:
-    """Check a URDF or xacro file's ``<ros2_control>`` tags as ros2_control's parser does."""
-    return _parse_description(path, xacro_args or {})[2]
+def lint_description(path: str | Path, xacro_args: Mapping[str, Any] | None = None,
+                     package_path: Sequence[str | Path] = ()) -> list[Finding]:
+    """Check a URDF or xacro file's ``<ros2_control>`` tags as ros2_control's parser does.
+
+    Args:
+        path: The URDF or xacro file.
+        xacro_args: Arguments for the xacro file.
+        package_path: Folders searched for the packages the file names (``$(find pkg)``, ``package://``).
+    """
+    with quiet():
+        problems = parse_description(path, xacro_args or {}, package_path)[2]
+    return [Finding(level, str(path), 0, where, message) for level, where, message in problems]
 
 
 def format_findings(findings: Sequence[Finding]) -> str:
     """One line per finding and a closing count, as a linter prints them."""
     errors = sum(f.level == "error" for f in findings)
     warnings = sum(f.level == "warning" for f in findings)
+    notes = sum(f.level == "note" for f in findings)
     body = "\n".join(str(f) for f in findings)
     tail = f"{errors} error(s), {warnings} warning(s)" if errors or warnings else "no problems found"
+    if notes:
+        tail += f", {notes} note(s)"
     return f"{body}\n{tail}" if body else tail

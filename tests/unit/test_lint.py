@@ -91,10 +91,13 @@ def test_wrong_type_and_missing_required_are_both_reported(tmp_path: Path) -> No
     assert any("interface_name" in m for m in messages), messages
 
 
-def test_removed_humble_keys_are_errors_with_the_jazzy_replacement(tmp_path: Path) -> None:
+def test_removed_humble_keys_are_warnings_with_the_jazzy_replacement(tmp_path: Path) -> None:
+    """Jazzy's manager no longer reads the key and loads the file anyway: a warning, not an error."""
     text = _GOOD.replace("update_rate: 100", "update_rate: 100\n    configure_components_on_start: [RRBot]")
-    (error,) = _errors(_lint(tmp_path, text))
-    assert "hardware_components_initial_state.inactive" in error and ":4:" in error
+    findings = _lint(tmp_path, text)
+    assert _errors(findings) == []
+    (warning,) = [str(f) for f in findings if f.level == "warning"]
+    assert "hardware_components_initial_state.inactive" in warning and ":4:" in warning and "ignores it" in warning
 
 
 def test_manager_parameter_of_wrong_type_or_unknown_name(tmp_path: Path) -> None:
