@@ -22,6 +22,7 @@ __all__ = [
     "ControllerNotFound",
     "SwitchError",
     "PluginNotFound",
+    "UnfinishedExercise",
     "MessageError",
     "CourseError",
     "GradingError",
@@ -216,6 +217,36 @@ class PluginNotFound(RRBotWorkshopError, KeyError):
 
     def __str__(self) -> str:
         return str(self.args[0])
+
+
+class UnfinishedExercise(PluginNotFound):
+    """A plugin name of the original workshop resolves to a learner's class that is not finished yet.
+
+    The workshop's names (``controlko_hardware_interface/RRBotHardwareInterface``, ...) mean "your task N class";
+    while that class does not import, is missing, or still has stubs (``raise NotImplementedError``), the plugin
+    cannot be loaded, as a C++ plugin whose library was not built yet. It is a :class:`PluginNotFound`, so every
+    caller that handles an unknown plugin handles it too.
+
+    Attributes:
+        plugin: The requested type string.
+        kind: ``"hardware"`` or ``"controller"``.
+        task: The task whose exercise the name resolves to.
+        path: The learner's file (``None`` if it is missing).
+        line: Line of the problem in that file (``None`` if there is none to point at).
+        problem: What is unfinished, in one sentence (the learner's error, with file and line).
+        available: Registered type strings of the same kind.
+    """
+
+    def __init__(self, plugin: str, kind: str, task: int, path: object, line: int | None, problem: str,
+                 message: str, available: Iterable[str] = ()) -> None:
+        self.plugin = plugin
+        self.kind = kind
+        self.task = task
+        self.path = path
+        self.line = line
+        self.problem = problem
+        self.available = sorted(available)
+        RRBotWorkshopError.__init__(self, message)
 
 
 class MessageError(RRBotWorkshopError, ValueError):

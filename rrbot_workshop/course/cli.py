@@ -74,7 +74,10 @@ def build_parser() -> argparse.ArgumentParser:
     target.add_argument("--student", metavar="DIR", help="new folder for a copy of the course (no solutions/)")
     target.add_argument("--ros2", metavar="DIR",
                         help="new folder for your description and bringup as ROS 2 packages (controlko_description, "
-                             "controlko_bringup), from the current track")
+                             "controlko_bringup), from one task of the current track")
+    export.add_argument("--task", type=int, metavar="N",
+                        help="with --ros2: the task whose description and bringup are exported (default: the most "
+                             "advanced one that is finished); unfinished files are refused, nothing is written")
     export.add_argument("--force", action="store_true", help="with --ros2: write into a folder that is not empty")
     export.add_argument("--package-path", action="append", default=[], metavar="DIR",
                         help="a folder with ROS packages (source or installed trees) to find $(find pkg) and "
@@ -255,11 +258,18 @@ def _cmd_export(args: argparse.Namespace) -> int:
         from rrbot_workshop.bringup.packages import use_package_path
 
         with use_package_path(args.package_path):
-            result = export_ros2(args.ros2, force=args.force)
+            result = export_ros2(args.ros2, force=args.force, task=args.task)
+        others = [t for t in result.ready_tasks if t != result.task]
+        print(f"Exporting task {result.task} ({result.task_folder}): its description and bringup"
+              + (f" (also ready: task {', '.join(map(str, others))}; choose with --task N)." if others else "."))
         print(f"Wrote ROS 2 packages to {result.root}: {len(result.copied)} file(s) of yours copied as they are, "
               f"{len(result.generated)} generated (package.xml, CMakeLists.txt, launch file, README.md).")
+        if result.to_port:
+            print(f"Still to write in C++ before use_mock_hardware:=false runs: {', '.join(result.to_port)}.")
         print(f"Read {result.root / 'README.md'} for what to build with colcon and what remains to write in C++.")
         return 0
+    if args.task is not None:
+        raise CourseError("--task", args.task, "--task only applies to --ros2 (a student copy holds every task)")
 
     if not args.student.strip():
         raise CourseError("export target", args.student, "--student is empty; give the path of a new folder for the copy")

@@ -1,44 +1,109 @@
-"""``rrbot-workshop export --ros2 DIR``: the learner's work as ROS 2 packages, laid out as the original workshop's.
+"""``rrbot-workshop export --ros2 DIR [--task N]``: the learner's work as ROS 2 packages, laid out as the original
+workshop's.
 
 What a learner wrote in the course is meant to run on a real ROS 2 Jazzy install. This writes two ament packages
 next to each other, named as the ROSCon 2022 workshop named them:
 
 ``controlko_description``
-    ``urdf/`` with the learner's xacro files, copied byte for byte from the latest task that has them
-    (task 2's description, which has the hardware switch, else task 1's); ``package.xml`` and
-    ``CMakeLists.txt`` (ament_cmake, installs ``urdf/``).
+    ``urdf/`` with the learner's xacro files, copied byte for byte from the exported task's
+    ``rrbot_description/urdf/``; ``package.xml`` and ``CMakeLists.txt`` (ament_cmake, installs ``urdf/``).
 ``controlko_bringup``
-    ``config/`` with the learner's controllers YAML, byte for byte; ``launch/rrbot.launch.py``, the
-    equivalent of the learner's ``bringup.py`` (xacro -> ``robot_state_publisher``, ``ros2_control_node``
-    with the YAML, spawners for the joint state broadcaster and the chosen robot controller, the other robot
-    controllers spawned ``--inactive``); ``package.xml`` and ``CMakeLists.txt``.
+    ``config/`` with the same task's controllers YAML (``rrbot_bringup/config/``), byte for byte;
+    ``launch/rrbot.launch.py``, the equivalent of the learner's ``bringup.py`` (xacro -> ``robot_state_publisher``,
+    ``ros2_control_node`` with the YAML, spawners for the broadcasters and the chosen robot controller, the other
+    robot controllers spawned ``--inactive``); ``package.xml`` and ``CMakeLists.txt``.
 
-A ``README.md`` at the top says how to build it with colcon and what stays to be written in C++ (the hardware
-interface of task 7 and the controller of task 8: their Python versions are copied to ``python_reference/`` to
-port from). Nothing here needs ROS to run: the generated files are checked to parse as XML and Python.
+**Which task.** Every task whose folder holds both a description (``rrbot_description/urdf/rrbot.urdf.xacro``) and a
+bringup (``rrbot_bringup/config/*.yaml``) can be exported (:func:`export_sources`). ``task=N`` chooses one; by
+default the most advanced task that is ready is exported, and :class:`Ros2Export` says which.
+
+**Ready** means the files the packages are made from are finished for what the packages do, checked in about a
+second without running the robot (:func:`export_problems`): the xacro declares the two arguments the launch file
+hands it (``use_mock_hardware``, ``mock_sensor_commands``) and expands with both values of the switch; with
+``use_mock_hardware:=true`` every ``<ros2_control>`` tag names ``mock_components/GenericSystem``; the controllers
+YAML loads, declares at least one robot controller (the launch argument ``robot_controller`` needs a choice) and
+lints with no error against the expanded description; every controller name is a ROS node name; and no plugin
+exists only in this library. An export that is not ready is refused with every problem, and writes nothing.
+
+**Manifests.** The ``exec_depend`` lists are derived from the files: the packages the generated launch file uses
+(its ``Node(package=...)``, ``FindPackageShare``, ``FindExecutable``, the ``launch`` modules it imports, and
+``ros2launch`` that runs it), the packages of the controller types in the YAML and of the hardware plugins the
+description can name (``mock_components`` is in ``hardware_interface``), and for the description ``xacro`` plus
+any package its files find (``$(find pkg)``, ``package://pkg``). The workshop's own plugins (task 7's driver,
+task 8's controller) are not dependencies: they remain to be written in C++, as the generated README says.
+
+A ``README.md`` at the top says how to build it with colcon and what stays to be written in C++ (the learner's
+Python versions of tasks 7 and 8 are copied to ``python_reference/`` to port from). Nothing here needs ROS to run:
+the generated files are checked to parse (XML, Python), and every ``DeclareLaunchArgument`` to be one that
+``ros2 launch`` accepts (a name, a text default, and choices that are not empty and hold the default).
 """
 
 from __future__ import annotations
 
 import ast
 import os
+import re
 import shutil
 import xml.etree.ElementTree as ET
+from collections.abc import Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from rrbot_workshop.course import tracks
-from rrbot_workshop.exceptions import CourseError, ParameterError
+from rrbot_workshop.exceptions import CourseError, DescriptionError, ParameterError, RRBotWorkshopError
 from rrbot_workshop.middleware.names import NODE_NAME_RULE, node_name_problem
 from rrbot_workshop.middleware.params import load_controllers_yaml
 
-__all__ = ["Ros2Export", "export_ros2"]
+__all__ = ["Ros2Export", "ExportSource", "export_sources", "export_problems", "export_ros2"]
 
 _MAINTAINER = "learner@example.com"
 #: Broadcaster types: spawned first, never the "robot controller".
 _BROADCASTER_SUFFIXES = ("Broadcaster",)
 #: The longest file or folder name most file systems take, in bytes.
 _NAME_MAX = 255
+#: Where a task keeps the files that are exported.
+_DESCRIPTION = Path("rrbot_description") / "urdf"
+_XACRO = "rrbot.urdf.xacro"
+_BRINGUP_CONFIG = Path("rrbot_bringup") / "config"
+_PREFERRED_YAML = "rrbot_controllers.yaml"
+#: The xacro arguments the generated launch file hands to the description, with the values it can give.
+_LAUNCH_XACRO_ARGS = {"use_mock_hardware": ("true", "false"), "mock_sensor_commands": ("false",)}
+_MOCK = "mock_components/GenericSystem"
+#: Plugin prefixes whose ROS 2 package has another name (Jazzy builds mock_components in hardware_interface).
+_PLUGIN_PACKAGES = {"mock_components": "hardware_interface"}
+#: Plugin prefixes of this library alone: ROS 2 has no such plugin.
+_LIBRARY_ONLY = ("rrbot_workshop",)
+#: Executables the generated launch file finds, and the package that installs each.
+_EXECUTABLE_PACKAGES = {"xacro": "xacro"}
+_COMMENT = re.compile(r"<!--.*?-->", re.DOTALL)
+_FIND = re.compile(r"\$\(find\s+([A-Za-z0-9_]+)\)|package://([A-Za-z0-9_]+)/")
+
+
+@dataclass
+class ExportSource:
+    """A task whose description and bringup can be exported.
+
+    Attributes:
+        task: Task number.
+        folder: The task's folder on the track.
+        urdf: Its ``rrbot_description/urdf`` folder (the xacro files).
+        controllers: Its controllers YAML.
+    """
+
+    task: int
+    folder: Path
+    urdf: Path
+    controllers: Path
+
+    @property
+    def shown(self) -> str:
+        """The task folder as the learner knows it (``exercises/task05_simulation``)."""
+        from rrbot_workshop.course.learner import shown
+
+        try:
+            return shown(self.folder)
+        except CourseError:
+            return self.folder.as_posix()
 
 
 @dataclass
@@ -47,15 +112,25 @@ class Ros2Export:
 
     Attributes:
         root: The output folder.
+        task: The task whose files were exported.
+        task_folder: That task's folder, as the learner knows it (``exercises/task05_simulation``).
+        ready_tasks: Every task that was ready to export (the learner may choose another with ``task=``).
         copied: Learner files copied byte for byte: destination -> source.
         generated: Files written from templates.
         robot_controllers: Controllers the launch file can start as the robot controller, the default first.
+        exec_depends: Package name -> its ``exec_depend`` entries, as written in its ``package.xml``.
+        to_port: The workshop's plugins the files name that remain to be written in C++.
     """
 
     root: Path
+    task: int = 0
+    task_folder: str = ""
+    ready_tasks: list[int] = field(default_factory=list)
     copied: dict[Path, Path] = field(default_factory=dict)
     generated: list[Path] = field(default_factory=list)
     robot_controllers: list[str] = field(default_factory=list)
+    exec_depends: dict[str, list[str]] = field(default_factory=dict)
+    to_port: list[str] = field(default_factory=list)
 
 
 def _package_xml(name: str, description: str, build_type: str, exec_depends: list[str]) -> str:
@@ -163,7 +238,7 @@ def _nodes(context):
 
 def generate_launch_description():
     return LaunchDescription([
-        DeclareLaunchArgument("robot_controller", default_value={default!r}, choices=ROBOT_CONTROLLERS),
+        DeclareLaunchArgument("robot_controller", default_value={default!r}, choices={others}),
         DeclareLaunchArgument("use_mock_hardware", default_value="true"),
         DeclareLaunchArgument("mock_sensor_commands", default_value="false"),
         OpaqueFunction(function=_nodes),
@@ -171,12 +246,15 @@ def generate_launch_description():
 '''
 
 
-def _readme(robot_controllers: list[str], references: list[str]) -> str:
-    ported = "\n".join(f"- `python_reference/{r}`" for r in references) or "- (none of tasks 7 and 8 written yet)"
+def _readme(result: Ros2Export, references: list[str]) -> str:
+    robot_controllers = result.robot_controllers
+    ported = "\n".join(f"- {r}" for r in references) or "- (none of tasks 7 and 8 written yet)"
+    plugins = ", ".join(f"`{p}`" for p in result.to_port) or "none"
     return f"""# Your RRBot, as ROS 2 packages
 
-Written by `rrbot-workshop export --ros2` from your course files. The xacro files and the controllers YAML are
-yours, unchanged; the package manifests, CMake files and the launch file were generated to match them.
+Written by `rrbot-workshop export --ros2` from your course files of task {result.task} (`{result.task_folder}`). The
+xacro files and the controllers YAML are yours, unchanged; the package manifests, CMake files and the launch file
+were generated to match them.
 
 ## Build and run (ROS 2 Jazzy)
 
@@ -193,11 +271,13 @@ as in the course.
 
 ## What remains C++
 
-The course's Python hardware interface (task 7, `controlko_hardware_interface/RRBotHardwareInterface`) and the
+Plugins your files name that no ROS 2 package provides yet: {plugins}. The course's Python hardware interface
+(task 7, `controlko_hardware_interface/RRBotHardwareInterface`, used with `use_mock_hardware:=false`) and the
 displacement controller (task 8, `controlko_controllers/DisplacementController`) are plugins: on a real robot
 they are C++ classes exported with `pluginlib`. Port them method by method (the names are the same,
 `on_configure`, `read`, `write`, `update`, ...), then build them as `controlko_hardware_interface` and
-`controlko_controllers`. Your Python versions, to port from:
+`controlko_controllers`, and add them to `controlko_bringup/package.xml` as `exec_depend`. Your Python versions,
+to port from:
 
 {ported}
 """
@@ -212,6 +292,39 @@ def _check_generated(name: str, text: str) -> None:
             compile(text, name, "exec", flags=ast.PyCF_ONLY_AST)
     except (SyntaxError, ValueError, ET.ParseError) as exc:  # our template failed: say so, write nothing
         raise CourseError("export", name, f"the generated {name} does not parse ({exc}); nothing was written") from exc
+    if name.endswith(".launch.py"):
+        problem = launch_argument_problem(text)
+        if problem:
+            raise CourseError("export", name, f"the generated {name} would be refused by ros2 launch ({problem}); "
+                              "nothing was written")
+
+
+def launch_argument_problem(text: str) -> str:
+    """Why ``ros2 launch`` would refuse a ``DeclareLaunchArgument`` of the launch file ``text``, or ``""``.
+
+    Every call must give the name and ``default_value`` as text literals; ``choices``, when given, a non-empty list
+    of text literals that holds the default (launch raises on an empty ``choices`` and on a default outside them).
+    """
+    for node in ast.walk(ast.parse(text)):
+        if not (isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id == "DeclareLaunchArgument"):
+            continue
+        if not node.args or not isinstance(node.args[0], ast.Constant) or not isinstance(node.args[0].value, str):
+            return f"a DeclareLaunchArgument at line {node.lineno} has no literal name"
+        name = node.args[0].value
+        keywords = {k.arg: k.value for k in node.keywords}
+        default = keywords.get("default_value")
+        if not isinstance(default, ast.Constant) or not isinstance(default.value, str):
+            return f"launch argument '{name}' has no text default_value"
+        if "choices" in keywords:
+            try:
+                choices = ast.literal_eval(keywords["choices"])
+            except ValueError:
+                return f"launch argument '{name}': choices must be a literal list"
+            if not isinstance(choices, list) or not choices or not all(isinstance(c, str) for c in choices):
+                return f"launch argument '{name}' has choices={choices!r}: launch refuses an empty or non-text list"
+            if default.value not in choices:
+                return f"launch argument '{name}': its default {default.value!r} is not among its choices {choices}"
+    return ""
 
 
 def _check_target(target: object) -> Path:
@@ -244,89 +357,304 @@ def _check_target(target: object) -> Path:
     return root
 
 
-def _description_source() -> Path:
-    for task in (2, 1):
+def _controllers_yaml(folder: Path) -> Path | None:
+    if not folder.is_dir():
+        return None
+    found = sorted(p for p in folder.iterdir() if p.suffix in (".yaml", ".yml") and p.is_file())
+    preferred = [p for p in found if p.name == _PREFERRED_YAML]
+    return (preferred or found)[0] if found else None
+
+
+def export_sources(track: str | None = None) -> list[ExportSource]:
+    """Every task of the course that has a description and a bringup to export, in task order.
+
+    A task qualifies when its folder on the track holds ``rrbot_description/urdf/rrbot.urdf.xacro`` and a controllers
+    YAML in ``rrbot_bringup/config/`` (``rrbot_controllers.yaml`` if there are several).
+
+    Args:
+        track: ``"exercises"`` or ``"solutions"``; default the current track.
+    """
+    found: list[ExportSource] = []
+    for task in tracks.task_names():
         try:
-            folder = tracks.task_dir(task) / "rrbot_description" / "urdf"
+            folder = tracks.task_dir(task, track)
         except CourseError:
             continue
-        if (folder / "rrbot.urdf.xacro").is_file():
-            return folder
-    raise CourseError("task", 1, "no rrbot_description/urdf/rrbot.urdf.xacro in task 2 or task 1 to export")
+        yaml_path = _controllers_yaml(folder / _BRINGUP_CONFIG)
+        if (folder / _DESCRIPTION / _XACRO).is_file() and yaml_path is not None:
+            found.append(ExportSource(task, folder, folder / _DESCRIPTION, yaml_path))
+    return found
 
 
-def export_ros2(target: str | Path, *, force: bool = False) -> Ros2Export:
-    """Write the learner's description and bringup as ROS 2 packages under ``target``.
+def _plugin_package(type_name: str) -> str:
+    return _PLUGIN_PACKAGES.get(type_name.split("/", 1)[0], type_name.split("/", 1)[0])
 
-    Everything is checked and prepared before the first file is written (the target, the learner's files, the
-    controller names, the generated files parsing), so a refused export leaves the disk as it was; an error while
-    writing removes what this call created.
+
+def _workshop_prefixes() -> set[str]:
+    return {p.type_name.split("/", 1)[0] for p in tracks.TRACK_PLUGINS}
+
+
+@dataclass
+class _Plan:
+    """What checking a source found out: its problems, and what the packages need."""
+
+    problems: list[str] = field(default_factory=list)
+    robot_controllers: list[str] = field(default_factory=list)
+    broadcasters: list[str] = field(default_factory=list)
+    plugin_packages: list[str] = field(default_factory=list)
+    to_port: list[str] = field(default_factory=list)
+
+
+def _declared_xacro_args(xacro: Path) -> set[str] | None:
+    try:
+        root = ET.parse(xacro).getroot()
+    except (ET.ParseError, OSError):
+        return None
+    return {e.get("name", "") for e in root.iter() if isinstance(e.tag, str) and e.tag.rsplit("}", 1)[-1] == "arg"}
+
+
+def _plugin(plan: _Plan, type_name: str, where: str) -> None:
+    prefix = type_name.split("/", 1)[0]
+    if prefix in _LIBRARY_ONLY:
+        plan.problems.append(f"{where} names '{type_name}', which exists only in this library: ROS 2 has no such "
+                             "plugin (use the workshop's name or a ROS 2 package's)")
+    elif prefix in _workshop_prefixes():
+        if type_name not in plan.to_port:
+            plan.to_port.append(type_name)
+    elif "/" in type_name:
+        package = _plugin_package(type_name)
+        if package not in plan.plugin_packages:
+            plan.plugin_packages.append(package)
+
+
+def _check(source: ExportSource) -> _Plan:
+    """Everything :func:`export_problems` checks, and what the manifests need (nothing is written)."""
+    from rrbot_workshop.course.lint import lint_controllers
+    from rrbot_workshop.description import parse_ros2_control, process_xacro
+
+    plan = _Plan()
+    xacro = source.urdf / _XACRO
+    shown_xacro = f"{source.shown}/{_DESCRIPTION.as_posix()}/{_XACRO}"
+    shown_yaml = f"{source.shown}/{_BRINGUP_CONFIG.as_posix()}/{source.controllers.name}"
+    declared = _declared_xacro_args(xacro)
+    if declared is None:
+        plan.problems.append(f"{shown_xacro} does not parse as XML")
+        return plan
+    missing = [a for a in _LAUNCH_XACRO_ARGS if a not in declared]
+    if missing:
+        plan.problems.append(f"{shown_xacro} declares no xacro argument {', '.join(repr(m) for m in missing)}, which "
+                             "the launch file sets (<xacro:arg name=... default=.../>, handed to the macro)")
+    description_ok = not missing
+    for mock in _LAUNCH_XACRO_ARGS["use_mock_hardware"] if description_ok else ():
+        args = {"use_mock_hardware": mock, "mock_sensor_commands": "false"}
+        try:
+            infos = parse_ros2_control(process_xacro(xacro, **args), source=str(xacro))
+        except (DescriptionError, RRBotWorkshopError, OSError) as exc:
+            plan.problems.append(f"{shown_xacro} with use_mock_hardware:={mock}: {str(exc).splitlines()[0]}")
+            description_ok = False
+            continue
+        if not infos:
+            plan.problems.append(f"{shown_xacro} has no <ros2_control> tag with use_mock_hardware:={mock}")
+            description_ok = False
+        for info in infos:
+            plugin = info.hardware_plugin_name or ""
+            if mock == "true" and plugin != _MOCK:
+                plan.problems.append(f"{shown_xacro}: with use_mock_hardware:=true, <ros2_control name="
+                                     f"'{info.name}'> names '{plugin or 'no plugin'}', not {_MOCK}: the switch is "
+                                     "not finished")
+            elif plugin:
+                _plugin(plan, plugin, f"{shown_xacro} (<ros2_control name='{info.name}'>)")
+    try:
+        config = load_controllers_yaml(source.controllers)
+    except ParameterError as exc:
+        plan.problems.append(f"{shown_yaml} does not load: {exc}")
+        return plan
+    for name, type_name in config.controller_types.items():
+        problem = node_name_problem(name)
+        if problem:
+            plan.problems.append(f"{shown_yaml}: controller name {name!r} is not a valid ROS node name: {problem}; "
+                                 f"{NODE_NAME_RULE}. Rename it")
+        _plugin(plan, type_name, f"{shown_yaml} (controller '{name}')")
+    plan.broadcasters = [n for n, t in config.controller_types.items() if t.endswith(_BROADCASTER_SUFFIXES)]
+    plan.robot_controllers = [n for n in config.controller_types if n not in plan.broadcasters]
+    if not plan.robot_controllers:
+        only = f" (only {', '.join(plan.broadcasters)})" if plan.broadcasters else ""
+        plan.problems.append(f"{shown_yaml} declares no robot controller{only}: the launch file's robot_controller "
+                             "needs at least one to choose from")
+    if description_ok:
+        args = {"use_mock_hardware": "true", "mock_sensor_commands": "false"}
+        for finding in lint_controllers(source.controllers, xacro, args):
+            if finding.level == "error":
+                line = f":{finding.line}" if finding.line else ""
+                plan.problems.append(f"{shown_yaml}{line}: {finding.where}: {finding.message} (lint)")
+    return plan
+
+
+def export_problems(source: ExportSource) -> list[str]:
+    """Why ``source`` is not ready to export, one sentence per problem naming the file; empty when it is ready.
+
+    Checked without running anything (about a second): see the module's documentation for the list.
+    """
+    return _check(source).problems
+
+
+def _choose(task: int | None) -> tuple[ExportSource, _Plan, list[int]]:
+    """The source to export: ``task``'s, or the most advanced ready one; and the tasks that are ready.
+
+    Raises:
+        CourseError: If ``task`` has nothing to export, or the chosen source is not ready (every problem listed).
+    """
+    sources = export_sources()
+    if not sources:
+        raise CourseError("task", task, f"no task on the '{tracks.current_track()}' track has a description "
+                          f"({_DESCRIPTION.as_posix()}/{_XACRO}) and a bringup ({_BRINGUP_CONFIG.as_posix()}/*.yaml) "
+                          "to export; nothing was written")
+    if task is not None:
+        chosen = [s for s in sources if s.task == task]
+        if not chosen:
+            raise CourseError("task", task, f"task {task} has no description and bringup to export; nothing was "
+                              "written", [s.task for s in sources])
+        plan = _check(chosen[0])
+        if plan.problems:
+            raise CourseError("task", task, _not_ready([(chosen[0], plan)], chosen=True, tasks=[s.task for s in sources]))
+        return chosen[0], plan, [task]
+    plans = [(s, _check(s)) for s in sources]
+    ready = [(s, p) for s, p in plans if not p.problems]
+    if not ready:
+        raise CourseError("task", None, _not_ready(list(reversed(plans)), chosen=False, tasks=[s.task for s in sources]))
+    source, plan = ready[-1]
+    return source, plan, [s.task for s, _ in ready]
+
+
+def _not_ready(plans: list[tuple[ExportSource, _Plan]], *, chosen: bool, tasks: list[int]) -> str:
+    lines = []
+    if chosen:
+        source, plan = plans[0]
+        lines.append(f"task {source.task} ({source.shown}) is not finished for export; nothing was written:")
+        lines += [f"  - {p}" for p in plan.problems]
+        others = [str(t) for t in tasks if t != source.task]
+        lines.append(f"Finish task {source.task} and export again (`rrbot-workshop grade {source.task}` checks it)"
+                     + (f", or export another task with --task N (these have a description and bringup: "
+                        f"{', '.join(others)})." if others else "."))
+    else:
+        lines.append(f"none of the tasks with a description and bringup ({', '.join(map(str, tasks))}) is finished "
+                     "for export; nothing was written:")
+        for source, plan in plans:
+            lines.append(f"  task {source.task} ({source.shown}):")
+            lines += [f"    - {p}" for p in plan.problems]
+        lines.append("Finish one of them and export again (`rrbot-workshop grade N` checks task N).")
+    return "\n".join(lines)
+
+
+def _unique(items: Iterable[str]) -> list[str]:
+    return list(dict.fromkeys(items))
+
+
+def _text(node: ast.expr | None) -> str | None:
+    return node.value if isinstance(node, ast.Constant) and isinstance(node.value, str) else None
+
+
+def _launch_packages(text: str) -> list[str]:
+    """The packages a launch file needs at run time, read from its code."""
+    found: list[str | None] = []
+    tree = ast.parse(text)
+    for node in ast.walk(tree):
+        if isinstance(node, ast.ImportFrom) and node.module:
+            found.append(node.module.split(".", 1)[0])
+        elif isinstance(node, ast.Import):
+            found += [alias.name.split(".", 1)[0] for alias in node.names]
+        elif isinstance(node, ast.Call) and isinstance(node.func, ast.Name):
+            keywords = {k.arg: k.value for k in node.keywords}
+            if node.func.id == "Node":
+                found.append(_text(keywords.get("package")))
+            elif node.func.id == "FindPackageShare" and node.args:
+                found.append(_text(node.args[0]))
+            elif node.func.id == "FindExecutable":
+                executable = _text(keywords.get("name"))
+                found.append(_EXECUTABLE_PACKAGES.get(executable, executable) if executable else None)
+    return _unique(["ros2launch", *(f for f in found if f)])  # ros2launch: the `ros2 launch` command that runs it
+
+
+def _description_packages(files: Iterable[Path], own: str) -> list[str]:
+    found = ["xacro"]
+    for path in files:
+        if path.suffix in (".xacro", ".urdf"):
+            text = _COMMENT.sub("", path.read_text(encoding="utf-8", errors="replace"))
+            for match in _FIND.finditer(text):
+                found.append(match.group(1) or match.group(2))
+    return sorted(set(found) - {own})
+
+
+def export_ros2(target: str | Path, *, force: bool = False, task: int | None = None) -> Ros2Export:
+    """Write the learner's description and bringup of one task as ROS 2 packages under ``target``.
+
+    Everything is checked and prepared before the first file is written (the target, the task's files, the controller
+    names, the generated files parsing, every launch argument), so a refused export leaves the disk as it was; an
+    error while writing removes what this call created.
 
     Args:
         target: Output folder; it must not exist yet, or be empty, unless ``force``.
-        force: Write into an existing non-empty folder (files of the same name are replaced).
+        force: Write into an existing non-empty folder (files of the same name are replaced). It does not export
+            unfinished work.
+        task: The task whose files are exported (see :func:`export_sources`); default the most advanced one that is
+            ready.
 
     Returns:
-        What was copied and generated.
+        What was exported (which task) and what was copied and generated.
 
     Raises:
-        CourseError: If ``target`` is empty, a file, not writable or a non-empty folder (and not ``force``); the
-            learner's description or controllers YAML is missing or unreadable; a controller name in it is not a
-            valid ROS node name; or writing fails.
+        CourseError: If ``target`` is empty, a file, not writable or a non-empty folder (and not ``force``); no task
+            has files to export, or ``task`` has none; the chosen task's files are not ready (every problem is
+            listed, see :func:`export_problems`); or writing fails.
     """
     root = _check_target(target)
     if root.is_dir() and any(root.iterdir()) and not force:
         raise CourseError("export target", str(root), "is not empty; choose a new folder (or pass --force)")
-    result = Ros2Export(root=root)
+    source, plan, ready = _choose(task)
+    result = Ros2Export(root=root, task=source.task, task_folder=source.shown, ready_tasks=ready,
+                        robot_controllers=plan.robot_controllers, to_port=plan.to_port)
     description = root / "controlko_description"
     bringup = root / "controlko_bringup"
 
     # ---- plan: what is copied from where, and what is generated (nothing is written yet)
     copies: dict[Path, Path] = {}
-    urdf_src = _description_source()
-    for src in sorted(p for p in urdf_src.rglob("*") if p.is_file() and "__pycache__" not in p.parts):
-        copies[description / "urdf" / src.relative_to(urdf_src)] = src
-    yaml_src = tracks.task_dir(2) / "rrbot_bringup" / "config" / "rrbot_controllers.yaml"
-    if not yaml_src.is_file():
-        raise CourseError("task", 2, f"no controllers YAML at {yaml_src} to export")
-    copies[bringup / "config" / yaml_src.name] = yaml_src
-    try:
-        config = load_controllers_yaml(yaml_src)
-    except ParameterError as exc:
-        raise CourseError("controllers file", str(yaml_src), f"cannot be exported: {exc}") from exc
-    for name in config.controller_types:
-        problem = node_name_problem(name)
-        if problem:
-            raise CourseError("controller", name, f"{yaml_src}: controller name {name!r} is not a valid ROS node name: "
-                              f"{problem}; {NODE_NAME_RULE}. Rename it; nothing was written")
-    broadcasters = [n for n, t in config.controller_types.items() if t.endswith(_BROADCASTER_SUFFIXES)]
-    result.robot_controllers = [n for n in config.controller_types if n not in broadcasters]
+    urdf_files = sorted(p for p in source.urdf.rglob("*") if p.is_file() and "__pycache__" not in p.parts)
+    for src in urdf_files:
+        copies[description / "urdf" / src.relative_to(source.urdf)] = src
+    copies[bringup / "config" / source.controllers.name] = source.controllers
 
     references: list[str] = []
-    for task, relative in ((7, "controlko_hardware_interface"), (8, "controlko_controllers")):
+    for ported, relative in ((7, "controlko_hardware_interface"), (8, "controlko_controllers")):
         try:
-            folder = tracks.task_dir(task)
+            folder = tracks.task_dir(ported)
         except CourseError:
             continue
         for src in sorted(folder.rglob("*.py")):
             dst = root / "python_reference" / relative / src.relative_to(folder)
             copies[dst] = src
-            references.append(str(dst.relative_to(root / "python_reference")))
+            stubs = tracks.file_stubs(src)
+            note = (f" (unfinished: {len(stubs)} stub(s) left, the first {stubs[0][1]}() at line {stubs[0][0]}; "
+                    f"finish task {ported} first)") if stubs else ""
+            references.append(f"`python_reference/{dst.relative_to(root / 'python_reference').as_posix()}`{note}")
 
+    launch = _launch_file(source.controllers.name, plan.robot_controllers, plan.broadcasters)
+    result.exec_depends = {
+        "controlko_description": _description_packages(urdf_files, "controlko_description"),
+        "controlko_bringup": sorted((set(_launch_packages(launch)) | set(plan.plugin_packages)) - {"controlko_bringup"}),
+    }
     files = {
         description / "package.xml": _package_xml(
             "controlko_description", "RRBot description (xacro, ros2_control tag), from rrbot_workshop.",
-            "ament_cmake", ["xacro", "robot_state_publisher"],
+            "ament_cmake", result.exec_depends["controlko_description"],
         ),
         description / "CMakeLists.txt": _cmakelists("controlko_description", ["urdf"]),
         bringup / "package.xml": _package_xml(
             "controlko_bringup", "RRBot bringup: controllers YAML and launch file, from rrbot_workshop.",
-            "ament_cmake",
-            ["controlko_description", "controller_manager", "ros2_controllers", "robot_state_publisher", "xacro"],
+            "ament_cmake", result.exec_depends["controlko_bringup"],
         ),
         bringup / "CMakeLists.txt": _cmakelists("controlko_bringup", ["config", "launch"]),
-        bringup / "launch" / "rrbot.launch.py": _launch_file(yaml_src.name, result.robot_controllers, broadcasters),
-        root / "README.md": _readme(result.robot_controllers, references),
+        bringup / "launch" / "rrbot.launch.py": launch,
+        root / "README.md": _readme(result, references),
     }
     for path, text in files.items():
         _check_generated(path.name, text)

@@ -8,12 +8,19 @@ still grades.
 
 The plugin names of the original ROSCon 2022 workshop, ``controlko_hardware_interface/RRBotHardwareInterface``
 and ``controlko_controllers/DisplacementController``, resolve to the class in the selected track's task
-folder (see :data:`TRACK_PLUGINS`). When the learner's file cannot be imported yet, the library's reference
-implementation is used instead and a warning says so, so a notebook never stops on a half-written file.
+folder (see :data:`TRACK_PLUGINS`), so the original's files run on the learner's own classes. While that class is
+unfinished (its file is missing or does not import, the class is not in it, or a function in it is still a stub:
+it raises ``NotImplementedError`` or only returns ERROR under a TODO), the name cannot be loaded, as a C++ plugin
+whose library was not built yet: :class:`~rrbot_workshop.exceptions.UnfinishedExercise` (a ``PluginNotFound``)
+says which task, file and line, and what to do instead (finish the task, use the library's class under its own
+name, mock the hardware, or the solutions track). A bringup therefore fails with that one message, and lint
+reports it as one finding. Only where the course has no such task folder at all (the library used without the
+course) do the names mean the library's reference implementation.
 """
 
 from __future__ import annotations
 
+import ast
 import functools
 import importlib
 import importlib.util
@@ -25,7 +32,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from rrbot_workshop.exceptions import ControllerError, CourseError, HardwareError
+from rrbot_workshop.exceptions import ControllerError, CourseError, HardwareError, UnfinishedExercise
 from rrbot_workshop.middleware import plugins
 
 __all__ = [
@@ -43,6 +50,8 @@ __all__ = [
     "task_name",
     "task_dir",
     "load_track_class",
+    "unfinished_problem",
+    "file_stubs",
     "install",
 ]
 
@@ -213,7 +222,9 @@ class TrackPlugin:
         task: Task number whose folder holds the learner's module.
         file_name: Module file searched for anywhere under the task folder.
         class_name: Class defined by that module.
-        reference: ``"module:Class"`` of the library's reference implementation used as fallback.
+        reference: ``"module:Class"`` of the library's reference implementation, used where the course has no
+            such task folder.
+        library_name: The plugin name of that reference in the library, never re-mapped to a learner's file.
     """
 
     kind: str
@@ -222,6 +233,7 @@ class TrackPlugin:
     file_name: str
     class_name: str
     reference: str
+    library_name: str = ""
 
 
 #: The original workshop's plugin names, resolved per track.
@@ -233,6 +245,7 @@ TRACK_PLUGINS: tuple[TrackPlugin, ...] = (
         file_name="rrbot_hardware_interface.py",
         class_name="RRBotHardwareInterface",
         reference="rrbot_workshop.hardware.rrbot:RRBotHardwareInterface",
+        library_name="rrbot_workshop/RRBotHardwareInterface",
     ),
     TrackPlugin(
         kind="controller",
@@ -241,6 +254,7 @@ TRACK_PLUGINS: tuple[TrackPlugin, ...] = (
         file_name="displacement_controller.py",
         class_name="DisplacementController",
         reference="rrbot_workshop.controllers.displacement:DisplacementController",
+        library_name="rrbot_workshop/DisplacementController",
     ),
     # the original's master branch exports the same class as displacement_controller/DisplacementController
     TrackPlugin(
@@ -250,8 +264,9 @@ TRACK_PLUGINS: tuple[TrackPlugin, ...] = (
         file_name="displacement_controller.py",
         class_name="DisplacementController",
         reference="rrbot_workshop.controllers.displacement:DisplacementController",
+        library_name="rrbot_workshop/DisplacementController",
     ),
-    # MyRobot's arm (notebook 15); the library has no worked answer of task 15: an unfinished one runs as mock hardware
+    # MyRobot's arm (notebook 15); the library has no worked answer of task 15: without the course it is mock hardware
     TrackPlugin(
         kind="hardware",
         type_name="my_robot/MyRobotHardware",
@@ -290,47 +305,201 @@ def _reference(plugin: TrackPlugin) -> Any:
     return getattr(importlib.import_module(module), attr)
 
 
-def _find_module_file(plugin: TrackPlugin, track: str) -> Path | None:
+def _task_folder(plugin: TrackPlugin, track: str) -> Path | None:
+    """The task's folder on ``track``, or ``None`` where this course has none (the library without the course)."""
     try:
         folder = task_dir(plugin.task, track)
     except CourseError:
         return None
-    if not folder.is_dir():
+    return folder if folder.is_dir() else None
+
+
+def _find_module_file(plugin: TrackPlugin, track: str) -> Path | None:
+    folder = _task_folder(plugin, track)
+    if folder is None:
         return None
     matches = sorted(p for p in folder.rglob(plugin.file_name) if "__pycache__" not in p.parts)
     return matches[0] if matches else None
 
 
+def _raises_not_implemented(node: ast.AST) -> bool:
+    if not isinstance(node, ast.Raise) or node.exc is None:
+        return False
+    exc = node.exc.func if isinstance(node.exc, ast.Call) else node.exc
+    return isinstance(exc, ast.Name) and exc.id == "NotImplementedError"
+
+
+def _todo_message(node: ast.Raise) -> str:
+    """The message a stub raises (``TODO(task 7.2): on_configure``), if it is a plain string."""
+    if isinstance(node.exc, ast.Call) and node.exc.args and isinstance(node.exc.args[0], ast.Constant):
+        value = node.exc.args[0].value
+        return value if isinstance(value, str) else ""
+    return ""
+
+
+def _is_failing_stub(function: ast.FunctionDef | ast.AsyncFunctionDef, lines: list[str]) -> bool:
+    """A function left as a TODO that only answers ERROR or FAILURE (or nothing): not written yet."""
+    body = list(function.body)
+    if body and isinstance(body[0], ast.Expr) and isinstance(body[0].value, ast.Constant) \
+            and isinstance(body[0].value.value, str):
+        body = body[1:]  # the docstring
+    if len(body) != 1:
+        return False
+    only = body[0]
+    failing = isinstance(only, ast.Pass) or (
+        isinstance(only, ast.Expr) and isinstance(only.value, ast.Constant) and only.value.value is Ellipsis
+    ) or (
+        isinstance(only, ast.Return) and (
+            only.value is None
+            or (isinstance(only.value, ast.Attribute) and only.value.attr in ("ERROR", "FAILURE"))
+        )
+    )
+    end = function.end_lineno or function.lineno
+    return failing and any("TODO" in line for line in lines[function.lineno - 1:end])
+
+
+def _stubs(tree: ast.Module, lines: list[str]) -> list[tuple[int, str, str]]:
+    """``(line, function, what it does)`` of every function of the file still left as a stub, in file order."""
+    found: dict[int, tuple[int, str, str]] = {}
+
+    def visit(node: ast.AST, prefix: str) -> None:
+        for child in ast.iter_child_nodes(node):
+            if isinstance(child, ast.ClassDef):
+                visit(child, f"{prefix}{child.name}.")
+            elif isinstance(child, ast.FunctionDef | ast.AsyncFunctionDef):
+                name = f"{prefix}{child.name}"
+                for sub in ast.walk(child):
+                    if isinstance(sub, ast.Raise) and _raises_not_implemented(sub) and sub.lineno not in found:
+                        message = _todo_message(sub)
+                        found[sub.lineno] = (sub.lineno, name, f"raises NotImplementedError({message!r})"
+                                             if message else "raises NotImplementedError")
+                if _is_failing_stub(child, lines) and child.lineno not in found:
+                    found[child.lineno] = (child.body[-1].lineno, name, "only answers ERROR under its TODO")
+                visit(child, f"{name}.")
+
+    visit(tree, "")
+    return [found[k] for k in sorted(found)]
+
+
+def file_stubs(path: Path) -> list[tuple[int, str, str]]:
+    """The functions of a Python file still left as stubs, without running it: ``(line, function, what it does)``.
+
+    A stub raises ``NotImplementedError``, or only answers ERROR/FAILURE (or nothing) under a TODO. A file that does
+    not parse or read has none to report (:func:`unfinished_problem` says why it is unfinished).
+    """
+    try:
+        source = path.read_text(encoding="utf-8")
+        return _stubs(ast.parse(source, filename=str(path)), source.splitlines())
+    except (SyntaxError, OSError, UnicodeDecodeError, ValueError):
+        return []
+
+
+def unfinished_problem(path: Path, class_name: str) -> tuple[int | None, str, Any]:
+    """Whether the learner's file ``path`` holds a finished ``class_name``, without running any of its methods.
+
+    Unfinished: the file does not parse or import, has no class of that name, or a function in it is still a stub
+    (``raise NotImplementedError``, or a TODO that only returns ERROR/FAILURE). The file is parsed before it is
+    imported, so a file full of stubs is never executed.
+
+    Args:
+        path: The learner's Python file.
+        class_name: The class the plugin name stands for.
+
+    Returns:
+        ``(line, problem, cls)``: ``problem`` is ``""`` and ``cls`` the class when it is finished; otherwise
+        ``problem`` says what is unfinished (with the file's name and line) and ``cls`` is ``None``.
+    """
+    from rrbot_workshop.course.learner import short_error
+
+    try:
+        source = path.read_text(encoding="utf-8")
+        tree = ast.parse(source, filename=str(path))
+    except SyntaxError as exc:
+        return exc.lineno, f"SyntaxError: {exc.msg} ({path.name}, line {exc.lineno})", None
+    except (OSError, UnicodeDecodeError, ValueError) as exc:
+        return None, f"{path.name} cannot be read ({type(exc).__name__}: {exc})", None
+    stubs = _stubs(tree, source.splitlines())
+    if stubs:
+        line, function, what = stubs[0]
+        more = f"; {len(stubs) - 1} more stub(s) after it" if len(stubs) > 1 else ""
+        return line, f"{function}() is not written yet: it {what} ({path.name}, line {line}){more}", None
+    module_name = f"rrbot_workshop_track_{path.parent.parent.name}_{path.parent.name}_{path.stem}"
+    try:
+        module = _import_file(path, module_name)
+    except Exception as exc:  # noqa: BLE001 - any error in a learner's file means "not usable yet"
+        frames = [f for f in _traceback_frames(exc) if Path(f.filename) == path]
+        return (frames[-1].lineno if frames else None), f"it does not import: {short_error(exc, path)}", None
+    cls = getattr(module, class_name, None)
+    if not isinstance(cls, type):
+        return None, f"{path.name} defines no class {class_name}", None
+    return None, "", cls
+
+
+def _traceback_frames(exc: BaseException) -> list[Any]:
+    import traceback
+
+    return list(traceback.extract_tb(exc.__traceback__))
+
+
+def _shown(path: Path) -> str:
+    from rrbot_workshop.course.learner import shown
+
+    try:
+        return shown(path)
+    except CourseError:
+        return path.as_posix()
+
+
+def _instead(plugin: TrackPlugin) -> str:
+    """What a learner can do while the class is unfinished, for the error message."""
+    options = [f"finish task {plugin.task} (`rrbot-workshop grade {plugin.task}`)"]
+    if plugin.library_name:
+        options.append(f"name the library's '{plugin.library_name}' instead")
+    if plugin.kind == "hardware":
+        options.append('mock it (use_mock_hardware:=true, or mock_hardware="unknown")')
+    options.append(f"use the solutions track ({TRACK_ENV}=solutions)")
+    return ", ".join(options[:-1]) + ", or " + options[-1]
+
+
+def _unfinished(plugin: TrackPlugin, track: str, path: Path | None, line: int | None, problem: str) -> UnfinishedExercise:
+    where = _shown(path) if path is not None else f"task {plugin.task}'s folder"
+    message = (f"'{plugin.type_name}' is the workshop's name for your task {plugin.task} class {plugin.class_name} in "
+               f"{where}, which is unfinished: {problem}. To run anyway: {_instead(plugin)}.")
+    return UnfinishedExercise(plugin.type_name, plugin.kind, plugin.task, path, line, problem, message,
+                              plugins.available(plugin.kind))
+
+
 def load_track_class(plugin: TrackPlugin, track: str | None = None) -> Any:
-    """The class for ``plugin`` on a track: the task folder's module, re-read from disk, or the reference.
+    """The class for ``plugin`` on a track: the task folder's module, re-read from disk.
 
     Args:
         plugin: Which plugin to load.
         track: Track to use; default :func:`current_track`.
 
     Returns:
-        The class defined in the track's module if it imports and defines ``plugin.class_name``, else the
-        library's reference class (a warning names the file and the error).
+        The class defined in the track's module when it is finished (see :func:`unfinished_problem`); the library's
+        reference class when the course has no folder for the task on that track (a warning says so).
 
     Raises:
-        HardwareError: For a hardware plugin when neither the track's module nor the reference can be loaded.
-        ControllerError: For a controller plugin when neither can be loaded.
+        UnfinishedExercise: If the task folder exists but the class in it is unfinished (the file is missing, does
+            not import, lacks the class, or still has stubs); the message names the file, the line and the options.
+        HardwareError: For a hardware plugin when there is no task folder and no reference implementation either.
+        ControllerError: For a controller plugin in that case.
     """
     chosen = track if track is not None else current_track()
-    path = _find_module_file(plugin, chosen)
-    problem: str
-    if path is None:
-        problem = f"no file '{plugin.file_name}' in task {plugin.task}'s folder on the '{chosen}' track"
-    else:
-        module_name = f"rrbot_workshop_track_{chosen}_task{plugin.task:02d}_{path.stem}"
-        try:
-            module = _import_file(path, module_name)
-            cls = getattr(module, plugin.class_name)
-        except Exception as exc:  # noqa: BLE001 - any error in a learner's file means "not usable yet"
-            problem = f"'{path}' could not be used ({type(exc).__name__}: {exc})"
-        else:
-            logger.debug("plugin '%s' -> %s from %s", plugin.type_name, plugin.class_name, path)
-            return cls
+    folder = _task_folder(plugin, chosen)
+    if folder is not None:
+        path = _find_module_file(plugin, chosen)
+        if path is None:
+            raise _unfinished(plugin, chosen, None, None,
+                              f"there is no {plugin.file_name} in {_shown(folder)} "
+                              f"(`rrbot-workshop reset {plugin.task}` restores the exercise)")
+        line, problem, cls = unfinished_problem(path, plugin.class_name)
+        if problem:
+            raise _unfinished(plugin, chosen, path, line, problem)
+        logger.debug("plugin '%s' -> %s from %s", plugin.type_name, plugin.class_name, path)
+        return cls
+    problem = f"no folder for task {plugin.task} on the '{chosen}' track"
     try:
         cls = _reference(plugin)
     except (ImportError, AttributeError) as exc:

@@ -15,9 +15,9 @@ from collections.abc import Callable
 from importlib import metadata
 from typing import Any
 
-from rrbot_workshop.exceptions import PluginNotFound
+from rrbot_workshop.exceptions import PluginNotFound, UnfinishedExercise
 
-__all__ = ["KINDS", "register", "unregister", "resolve", "available", "register_resolver"]
+__all__ = ["KINDS", "register", "unregister", "resolve", "available", "register_resolver", "describe_unfinished"]
 
 KINDS = ("hardware", "controller")
 
@@ -135,6 +135,8 @@ def resolve(kind: str, type_name: str) -> Any:
 
     Raises:
         PluginNotFound: If nothing provides ``type_name``; the message lists what exists.
+        UnfinishedExercise: (a ``PluginNotFound``) If ``type_name`` is one of the original workshop's names and the
+            learner's class it stands for is not finished yet; the message says which file, line and what to do.
     """
     _check_kind(kind)
     _install_resolvers()
@@ -148,3 +150,26 @@ def resolve(kind: str, type_name: str) -> Any:
     if type_name in eps:
         return eps[type_name].load()
     raise PluginNotFound(type_name, kind, available(kind))
+
+
+def describe_unfinished(type_name: str, kind: str | None = None) -> str | None:
+    """Why ``type_name`` cannot be loaded yet, if it names a learner's unfinished class; else ``None``.
+
+    For tools that report rather than raise (lint): one sentence naming the task, the learner's file and line,
+    and what to do instead. ``None`` for a type that loads, and for one that is simply unknown (that is
+    :class:`PluginNotFound`'s message, with the names that exist).
+
+    Args:
+        type_name: A plugin type string, e.g. ``"controlko_controllers/DisplacementController"``.
+        kind: ``"hardware"`` or ``"controller"``; default both.
+    """
+    for k in KINDS if kind is None else (kind,):
+        _check_kind(k)
+        try:
+            resolve(k, type_name)
+        except UnfinishedExercise as exc:
+            return str(exc)
+        except PluginNotFound:
+            continue
+        return None
+    return None

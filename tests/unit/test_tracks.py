@@ -2,14 +2,13 @@
 
 from __future__ import annotations
 
-import logging
 from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
 
 from rrbot_workshop.course import tracks
-from rrbot_workshop.exceptions import ControllerError, CourseError, HardwareError
+from rrbot_workshop.exceptions import CourseError, HardwareError, UnfinishedExercise
 from rrbot_workshop.middleware import plugins
 
 _CONTROLLER = '''
@@ -158,38 +157,26 @@ def test_track_class_is_reread_after_an_edit(course: Path) -> None:
     assert tracks.load_track_class(_plugin()).VERSION == 7
 
 
-def test_unfinished_learner_file_falls_back_to_reference_with_warning(
-    course: Path, caplog: pytest.LogCaptureFixture
-) -> None:
+def test_unfinished_learner_file_is_refused_naming_its_line(course: Path) -> None:
     path = course / "exercises" / "task08_write_controller" / "controlko_controllers" / "displacement_controller.py"
     path.write_text("class DisplacementController(:\n")
-    from rrbot_workshop.middleware.lifecycle import State
-
-    with caplog.at_level(logging.WARNING, logger="rrbot_workshop.course.tracks"):
-        assert tracks.load_track_class(_plugin()) is State
-    assert "SyntaxError" in caplog.text and "reference implementation" in caplog.text
+    with pytest.raises(UnfinishedExercise, match=r"task 8 class DisplacementController in .*SyntaxError.*line 1") as info:
+        tracks.load_track_class(_plugin())
+    assert info.value.task == 8 and info.value.line == 1 and info.value.path == path
 
 
-def test_missing_class_falls_back_to_reference(course: Path) -> None:
+def test_missing_class_is_refused(course: Path) -> None:
     path = course / "exercises" / "task08_write_controller" / "controlko_controllers" / "displacement_controller.py"
     path.write_text("X = 1\n")
-    from rrbot_workshop.middleware.lifecycle import State
-
-    assert tracks.load_track_class(_plugin()) is State
+    with pytest.raises(UnfinishedExercise, match="defines no class DisplacementController"):
+        tracks.load_track_class(_plugin())
 
 
 def test_no_learner_file_and_no_reference_raises_hardware_error(course: Path) -> None:
     plugin = tracks.TrackPlugin("hardware", "test/Hw", 7, "rrbot_hardware_interface.py", "RRBotHardwareInterface",
                                 "rrbot_workshop.no_such_module:Driver")
-    with pytest.raises(HardwareError, match="no file 'rrbot_hardware_interface.py'.*no reference implementation"):
+    with pytest.raises(HardwareError, match="no folder for task 7.*no reference implementation"):
         tracks.load_track_class(plugin)
-
-
-def test_broken_learner_file_and_no_reference_raises_controller_error(course: Path) -> None:
-    path = course / "exercises" / "task08_write_controller" / "controlko_controllers" / "displacement_controller.py"
-    path.write_text("raise RuntimeError('unfinished')\n")
-    with pytest.raises(ControllerError, match="unfinished.*no reference implementation"):
-        tracks.load_track_class(_plugin(reference="rrbot_workshop.middleware.lifecycle:NoSuchClass"))
 
 
 def test_original_plugin_names_are_registered() -> None:
