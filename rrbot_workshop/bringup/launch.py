@@ -20,9 +20,11 @@ from pathlib import Path
 from typing import Any
 
 from rrbot_workshop.bringup.inputs import controllers_config, description_to_urdf, hardware_initial_states
+from rrbot_workshop.bringup.packages import use_package_path
 from rrbot_workshop.bringup.system import System, register, unique_name
 from rrbot_workshop.controller_manager.manager import ControllerManager
 from rrbot_workshop.exceptions import ControllerNotFound, ParameterError
+from rrbot_workshop.hardware_interface.resource_loading import mock_hardware_infos
 from rrbot_workshop.hardware_interface.resource_manager import ResourceManager
 from rrbot_workshop.middleware.clock import Clock, make_clock
 from rrbot_workshop.middleware.controllers_yaml import ControllersConfig
@@ -79,9 +81,6 @@ def bringup(
         SwitchError: If activating ``spawn`` is rejected.
     """
     from rrbot_workshop.description import parse_ros2_control
-
-    from rrbot_workshop.bringup.packages import use_package_path
-    from rrbot_workshop.hardware_interface.resource_loading import mock_hardware_infos
 
     package_path = [package_path] if isinstance(package_path, str | Path) else list(package_path or [])
     urdf, package, source = description_to_urdf(description, xacro_args or {}, package_path)

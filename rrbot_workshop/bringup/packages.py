@@ -446,9 +446,9 @@ def _crawl(entry: Path, index: PackageIndex, descriptions: bool) -> None:
     else:
         manifests = []
         seen: set[str] = set()
-        for folder, dirs, files in os.walk(entry, followlinks=True):
-            here = Path(folder)
-            real = os.path.realpath(folder)
+        for walked, dirs, files in os.walk(entry, followlinks=True):
+            here = Path(walked)
+            real = os.path.realpath(walked)
             depth = len(here.relative_to(entry).parts)
             if real in seen or depth > MAX_DEPTH:
                 dirs[:] = []
@@ -471,17 +471,17 @@ def _crawl(entry: Path, index: PackageIndex, descriptions: bool) -> None:
             continue
         folder = manifest.parent
         installed = folder.parent.name == "share" and folder.name == name
-        if installed or not (folder / "CMakeLists.txt").is_file():
-            rules, complete = [], True
-        else:
+        rules: list[InstallRule] = []
+        complete = True
+        if not installed and (folder / "CMakeLists.txt").is_file():
             rules, complete = parse_install_rules(folder / "CMakeLists.txt", name)
         found.append(Package(name, folder, "installed" if installed else "source", entry, manifest, tuple(rules),
                              complete))
     if descriptions and entry.is_dir():
         taken = {p.path for p in found}
-        for folder in sorted(entry.iterdir()):
-            if folder.is_dir() and not folder.name.startswith((".", "_")) and folder not in taken:
-                found.append(Package(folder.name, folder, "descriptions", entry))
+        for sub in sorted(entry.iterdir()):
+            if sub.is_dir() and not sub.name.startswith((".", "_")) and sub not in taken:
+                found.append(Package(sub.name, sub, "descriptions", entry))
     for package in found:
         first = index.packages.get(package.name)
         if first is None:
@@ -658,10 +658,12 @@ def resolve_uri(uri: str, extra: Iterable[str | os.PathLike[str]] | str | os.Pat
     try:
         pkg = find_package(package, extra)
     except DescriptionError:
-        if package in _SEEN and not must_exist:
-            pkg = _SEEN[package]
-        else:
+        # after a bringup with its own package path returned (a viewer showing its meshes): the packages met so far
+        earlier = [_SEEN.get(package)] + [i.packages.get(package) for i in reversed(list(_CACHE.values()))]
+        known = next((p for p in earlier if p is not None), None)
+        if known is None or must_exist:
             raise
+        pkg = known
     if not relative:
         return pkg.path
     found = pkg.find(relative)

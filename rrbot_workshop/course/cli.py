@@ -350,7 +350,7 @@ def _cmd_bringup(args: argparse.Namespace) -> int:
     """Bring up, spawn, spin ``--seconds`` and print what runs; any failure is one line and exit status 2."""
     import logging
 
-    import rrbot_workshop as rw
+    from rrbot_workshop.bringup import bringup
 
     seconds = args.seconds
     if not math.isfinite(seconds) or seconds < 0:
@@ -359,8 +359,9 @@ def _cmd_bringup(args: argparse.Namespace) -> int:
     if not logging.getLogger().handlers:  # bringup's INFO lines (what was mocked) and every warning, on stderr
         logging.basicConfig(level=logging.WARNING, format="%(levelname)s %(name)s: %(message)s")
     try:
-        system = rw.bringup(args.description, args.controllers, xacro_args=xacro_args, spawn=args.spawn,
-                            inactive=args.inactive, package_path=args.package_path, mock_hardware=args.mock_hardware, clock="sim")
+        system = bringup(args.description, args.controllers, xacro_args=xacro_args, spawn=args.spawn,
+                         inactive=args.inactive, package_path=args.package_path, mock_hardware=args.mock_hardware,
+                         clock="sim")
     except RRBotWorkshopError as exc:  # the whole message: a rejected switch lists its reasons on the next lines
         print(f"rrbot-workshop: error: {str(exc).strip() or type(exc).__name__}", file=sys.stderr)
         return USAGE_ERROR

@@ -126,6 +126,10 @@ def mock_hardware_infos(infos: Sequence[HardwareInfo], mode: str | None) -> tupl
     The mock of a system is ``mock_components/GenericSystem``; an actuator or a sensor gets the library's
     ``rrbot_workshop/MockActuator`` or ``rrbot_workshop/MockSensor`` (Jazzy has no mock of those types; see
     :mod:`rrbot_workshop.hardware.mock_substitutes`). The ``<hardware><param>`` values stay; the mocks read theirs.
+    A replaced component whose joint commands are all position/velocity/acceleration also gets
+    ``calculate_dynamics=true`` unless it sets it (as the demos' own mock switches do): a velocity command then moves
+    the joint's position, as the driver's hardware would. Effort commands are mirrored only (GenericSystem with
+    dynamics refuses a joint without a position, velocity or acceleration command).
 
     Args:
         infos: The parsed ``<ros2_control>`` tags.
@@ -159,7 +163,11 @@ def mock_hardware_infos(infos: Sequence[HardwareInfo], mode: str | None) -> tupl
         replace = plugin != mock if mode == "all" else bool(plugin) and not _known(plugin)
         if replace:
             mocked[info.name] = plugin
-            info = dataclasses.replace(info, hardware_plugin_name=mock)
+            params = dict(info.hardware_parameters)
+            commands = {i.name for j in info.joints for i in j.command_interfaces}
+            if "calculate_dynamics" not in params and commands and commands <= {"position", "velocity", "acceleration"}:
+                params["calculate_dynamics"] = "true"  # a driver's joints move: velocity commands integrate
+            info = dataclasses.replace(info, hardware_plugin_name=mock, hardware_parameters=params)
         out.append(info)
     return out, mocked
 

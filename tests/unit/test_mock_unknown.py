@@ -45,6 +45,33 @@ def _plugins(system: rw.bringup.System) -> dict[str, tuple[str, str]]:
     return {c.name: (c.type, c.plugin_name) for c in system.controller_manager.list_hardware_components()}
 
 
+def test_a_mocked_velocity_joint_moves_and_a_declared_choice_is_kept() -> None:
+    """calculate_dynamics is added only where the description does not say it and every command is
+    position/velocity/acceleration."""
+    from rrbot_workshop.description import parse_ros2_control
+    from rrbot_workshop.hardware_interface.resource_loading import mock_hardware_infos
+
+    def tag(name: str, command: str, params: str = "") -> str:
+        return (f'<ros2_control name="{name}" type="system"><hardware><plugin>vendor/Driver</plugin>{params}'
+                f'</hardware><joint name="{name}_j"><command_interface name="{command}"/>'
+                '<state_interface name="position"/><state_interface name="velocity"/></joint></ros2_control>')
+
+    links = '<link name="base"/>' + "".join(
+        f'<link name="{n}_l"/><joint name="{n}_j" type="continuous"><parent link="base"/><child link="{n}_l"/>'
+        "</joint>" for n in ("vel", "eff", "own"))
+    urdf = ('<robot name="r">' + links + tag("vel", "velocity") + tag("eff", "effort")
+            + tag("own", "velocity", '<param name="calculate_dynamics">false</param>') + "</robot>")
+    infos, mocked = mock_hardware_infos(parse_ros2_control(urdf), "unknown")
+    assert mocked == {"vel": "vendor/Driver", "eff": "vendor/Driver", "own": "vendor/Driver"}
+    assert [i.hardware_parameters.get("calculate_dynamics") for i in infos] == ["true", None, "false"]
+    with rw.bringup(urdf.replace(tag("eff", "effort"), ""), {"controller_manager": {"ros__parameters": {
+            "update_rate": 100, "vc": {"type": "velocity_controllers/JointGroupVelocityController"}}},
+            "vc": {"ros__parameters": {"joints": ["vel_j"]}}}, mock_hardware="unknown", spawn=["vc"]) as system:
+        system.publish("/vc/commands", Float64MultiArray(data=[2.0]))
+        system.spin(0.5)
+        assert system.resource_manager.get_interface_value("vel_j/position") == pytest.approx(0.98, abs=0.03)
+
+
 def test_unknown_plugins_fail_without_mock_hardware() -> None:
     """As Jazzy: a plugin nobody provides is an error naming the component; nothing is left running."""
     with pytest.raises(HardwareError, match="hardware component 'TinyBotShoulder'.*tinybot_example/TinyBotShoulder"):
@@ -73,8 +100,9 @@ def test_unknown_plugins_become_the_mock_of_their_type_and_are_reported(caplog: 
         assert dict(zip(state.name, state.position, strict=True)) == {"shoulder": 1.0, "elbow": -1.2}
         wrench = system.latest("/wrist_ft_broadcaster/wrench").wrench
         assert wrench.force.z == 1.5 and math.isnan(wrench.force.x)
-        # the original <hardware><param>s stay with the component
-        assert system.hardware_infos[0].hardware_parameters == {"port": "/dev/ttyTINY0"}
+        # the original <hardware><param>s stay; position-commanded joints get the mock's dynamics, as a driver moves
+        assert system.hardware_infos[0].hardware_parameters == {"port": "/dev/ttyTINY0", "calculate_dynamics": "true"}
+        assert system.hardware_infos[2].hardware_parameters == {}  # the sensor has no joint commands
 
 
 def test_known_plugins_are_kept_with_unknown_and_replaced_with_all() -> None:
