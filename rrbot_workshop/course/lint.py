@@ -42,6 +42,7 @@ from rrbot_workshop.course.lint_classes import (
     learner_file,
     quiet,
     reason,
+    unfinished_exercise,
 )
 from rrbot_workshop.course.lint_layout import (
     MANAGER_ENTRY_KEYS,
@@ -297,7 +298,11 @@ class _Linter:
         with captured("rrbot_workshop.course.tracks") as log:
             try:
                 cls = plugins.resolve("controller", ctype)
-            except PluginNotFound:
+            except PluginNotFound as exc:
+                unfinished = unfinished_exercise(exc)
+                if unfinished is not None:  # the workshop's name for a learner's class that is not finished
+                    report_type("error", f"'{ctype}' resolves to your unfinished {unfinished}")
+                    return None
                 report_type("error", f"unknown controller type '{ctype}': no controller of that type is available "
                                      f"here{closest(ctype, plugins.available('controller'))}")
                 return None

@@ -17,7 +17,7 @@ from pathlib import Path
 from typing import Any
 
 __all__ = ["Interfaces", "hardware_interfaces", "controller_interfaces", "quiet", "captured", "learner_file",
-           "reason", "LEARNER_MODULE_PREFIX"]
+           "reason", "unfinished_exercise", "LEARNER_MODULE_PREFIX"]
 
 #: Module names the course tracks give a learner's file when they load it (rrbot_workshop.course.tracks).
 LEARNER_MODULE_PREFIX = "rrbot_workshop_track_"
@@ -122,3 +122,22 @@ def learner_file(cls: Any) -> str | None:
 def reason(exc: BaseException) -> str:
     text = str(exc)
     return f"{type(exc).__name__}: {text}" if text else type(exc).__name__
+
+
+def _shown(path: Any) -> str:
+    with contextlib.suppress(TypeError, ValueError):
+        return str(Path(path).resolve().relative_to(Path.cwd().resolve()))
+    return str(path)
+
+
+def unfinished_exercise(exc: BaseException) -> str | None:
+    """``<file>: <what is unfinished>[; to run anyway: ...]`` when resolving a plugin failed on a learner's
+    unfinished class (the library's ``UnfinishedExercise``); None for any other failure."""
+    problem = getattr(exc, "problem", None)
+    task = getattr(exc, "task", None)
+    if not isinstance(problem, str) or task is None:
+        return None
+    path = getattr(exc, "path", None)
+    where = _shown(path) if path is not None else f"task {task}'s folder"
+    _, _, instead = str(exc).partition("To run anyway: ")
+    return f"{where}: {problem}" + (f"; to run anyway: {instead.rstrip('.')}" if instead else "")
