@@ -266,6 +266,15 @@ TRACK_PLUGINS: tuple[TrackPlugin, ...] = (
         reference="rrbot_workshop.controllers.displacement:DisplacementController",
         library_name="rrbot_workshop/DisplacementController",
     ),
+    # MyRobot's arm (notebook 15); the library has no worked answer of task 15: without the course it is mock hardware
+    TrackPlugin(
+        kind="hardware",
+        type_name="my_robot/MyRobotHardware",
+        task=15,
+        file_name="my_robot_hardware.py",
+        class_name="MyRobotHardware",
+        reference="rrbot_workshop.hardware.mock:GenericSystem",
+    ),
 )
 
 

@@ -31,6 +31,8 @@ _BUILTIN: dict[str, dict[str, str]] = {
         "rrbot_workshop/MujocoSystem": "rrbot_workshop.hardware.mujoco_system:MujocoSystem",
         # the library's task-7 driver under its own name, never re-mapped to a learner's file (notebook 07's fallback)
         "rrbot_workshop/RRBotHardwareInterface": "rrbot_workshop.hardware.rrbot:RRBotHardwareInterface",
+        # MyRobot's external tool sensor (notebook 15); its arm's component is the learner's class of task 15
+        "my_robot/ToolForceTorqueSensor": "rrbot_workshop.hardware.my_robot:ToolForceTorqueSensor",
     },
     "controller": {
         "joint_state_broadcaster/JointStateBroadcaster":
