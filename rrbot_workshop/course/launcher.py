@@ -268,9 +268,13 @@ USAGE = ("usage: python workshop.py start [jupyterlab options] | test [pytest op
 
 
 def tool(root: Path, args: Sequence[str]) -> int:
-    """Set up and run one ``rrbot-workshop`` command with the course's environment."""
+    """Set up and run one ``rrbot-workshop`` command with the course's environment.
+
+    It runs in the caller's folder with ``--course root``, so a relative path on the command line (``lint
+    my_ws/src/robot/config/x.yaml``, ``--package-path ../ws``) means what it means in the caller's shell.
+    """
     python = setup(root)
-    return subprocess.call([str(python), "-m", "rrbot_workshop.course.cli", *args], cwd=root)
+    return subprocess.call([str(python), "-m", "rrbot_workshop.course.cli", "--course", str(root), *args])
 
 
 def main(argv: Sequence[str] | None = None, root: Path | None = None) -> int:
