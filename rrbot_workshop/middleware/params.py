@@ -302,6 +302,8 @@ class ParamListener:
             ParameterError: Naming the controller, the parameter, what it holds and the names the group declares.
         """
         for given in self.undeclared:
+            if isinstance(self._given[given], Mapping):  # an empty group ('gains: {}'): every entry at its default
+                continue
             inside = sorted(n[len(given) + 1:] for n in self._expanded if n.startswith(given + "."))
             if inside:
                 value = self._given[given]
