@@ -58,10 +58,11 @@ def substitute(text: str, variables: Mapping[str, Any], source: str = "<text>") 
                 return args[1]  # $(var name default): launch's LaunchConfiguration with a default
             if name not in variables:
                 close = difflib.get_close_matches(name, list(variables), n=3)
-                hint = f"; did you mean {close}?" if close else ""
+                fix = (f"did you mean {close}?" if close else
+                       f"pass it as the launch file would: bringup(..., launch_args={{'{name}': ...}}) "
+                       f"(lint: --arg {name}:=...)")
                 raise ParameterError(_OWNER, name, f"{where}: $(var {name}) is not a launch argument "
-                                     f"(given: {sorted(variables) or 'none'}){hint}; pass it as the launch file "
-                                     f"would: bringup(..., launch_args={{'{name}': ...}}) (lint: --arg {name}:=...)")
+                                     f"(given: {sorted(variables) or 'none'}); {fix}")
             value = variables[name]
             return str(value).lower() if isinstance(value, bool) else str(value)
         if kind == "env" and len(args) in (1, 2):
