@@ -138,7 +138,11 @@ def _add_bringup_parser(sub: Any) -> None:
                     help="unknown: every hardware plugin the library does not have becomes the mock of its "
                          "component's type; all: every component does")
     up.add_argument("--arg", action="append", default=[], metavar="NAME:=VALUE",
-                    help="a xacro argument for the description, as xacro takes it (repeatable)")
+                    help="a launch argument: a xacro argument of the description and the value of $(var NAME) in "
+                         "the controllers YAML, as a launch file passes its arguments to both (repeatable)")
+    up.add_argument("--namespace", metavar="NS", default=None,
+                    help="the controller manager's namespace (/rrbot_1): its services and controllers' topics, and the "
+                         "YAML's /rrbot_1/... and /**/... sections")
     up.add_argument("--spawn", action="append", default=[], metavar="NAME",
                     help="a controller to load, configure and activate (repeatable; all in one strict switch)")
     up.add_argument("--inactive", action="append", default=[], metavar="NAME",
@@ -361,7 +365,7 @@ def _cmd_bringup(args: argparse.Namespace) -> int:
     try:
         system = bringup(args.description, args.controllers, xacro_args=xacro_args, spawn=args.spawn,
                          inactive=args.inactive, package_path=args.package_path, mock_hardware=args.mock_hardware,
-                         clock="sim")
+                         clock="sim", launch_args=xacro_args, namespace=args.namespace)
     except RRBotWorkshopError as exc:  # the whole message: a rejected switch lists its reasons on the next lines
         print(f"rrbot-workshop: error: {str(exc).strip() or type(exc).__name__}", file=sys.stderr)
         return USAGE_ERROR

@@ -225,3 +225,22 @@ def test_a_mocked_joint_takes_several_control_modes_where_genericsystem_refuses_
         rw.bringup(urdf("mock_components/GenericSystem", '<param name="calculate_dynamics">true</param>'), yaml,
                    spawn=["jtc"])
     assert rw.bringup.systems() == {}
+
+
+def test_cli_bringup_args_fill_the_yaml_vars_and_the_namespace_applies(tmp_path: Path,
+                                                                       capsys: pytest.CaptureFixture[str]) -> None:
+    """``--arg`` is a launch argument: xacro's argument and the YAML's $(var) (example 1's joint_prefix);
+    ``--namespace`` picks the YAML's sections for that manager. Without the argument: one error naming it."""
+    yaml_file = tmp_path / "prefixed_controllers.yaml"
+    yaml_file.write_text(
+        "/**/controller_manager:\n  ros__parameters:\n    update_rate: 100\n"
+        "/**/forward_position_controller:\n  ros__parameters:\n"
+        "    type: forward_command_controller/ForwardCommandController\n"
+        "    joints: [$(var joint_prefix)1, $(var joint_prefix)2]\n    interface_name: position\n")
+    code = main(["bringup", "rrbot", "--controllers", str(yaml_file), "--arg", "joint_prefix:=joint",
+                 "--namespace", "/arm_1", "--spawn", "forward_position_controller", "--seconds", "0.1"])
+    out = capsys.readouterr().out
+    assert code == 0, out
+    assert "forward_position_controller" in out and "active" in out
+    assert main(["bringup", "rrbot", "--controllers", str(yaml_file), "--spawn", "forward_position_controller"]) == 2
+    assert "joint_prefix" in capsys.readouterr().err
