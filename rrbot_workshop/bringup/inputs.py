@@ -6,7 +6,7 @@
   package's ``config/``, YAML text, a mapping or a
   :class:`~rrbot_workshop.middleware.controllers_yaml.ControllersConfig` -> a ``ControllersConfig``;
 
-Packages are looked up on the package path (:mod:`rrbot_workshop.bringup.packages`); ``package_path`` puts folders
+Packages are looked up on the package path (:mod:`rrbot_workshop.description.packages`); ``package_path`` puts folders
 in front of it for the call.
 * :func:`hardware_initial_states`: the hardware components' initial states, from the controllers YAML and the caller.
 """
@@ -32,21 +32,20 @@ def description_to_urdf(description: str | Path, xacro_args: Mapping[str, Any],
     Args:
         description: See :func:`~rrbot_workshop.bringup.bringup`.
         xacro_args: Xacro arguments.
-        package_path: Folders searched first for packages (see :mod:`rrbot_workshop.bringup.packages`).
+        package_path: Folders searched first for packages (see :mod:`rrbot_workshop.description.packages`).
 
     Raises:
         DescriptionError: If the file or package is not found (the message says where it was looked for), or xacro
             fails.
     """
-    from rrbot_workshop.bringup import packages
+    from rrbot_workshop.description import packages
 
     with packages.use_package_path(package_path):
         return _description_to_urdf(description, xacro_args)
 
 
 def _description_to_urdf(description: str | Path, xacro_args: Mapping[str, Any]) -> tuple[str, str | None, str]:
-    from rrbot_workshop.bringup import packages
-    from rrbot_workshop.description import process_xacro
+    from rrbot_workshop.description import packages, process_xacro
 
     text = str(description)
     if isinstance(description, str) and text.lstrip().startswith("<"):
@@ -109,7 +108,7 @@ def controllers_config(controllers: Any, package: str | None,
     text = str(controllers)
     if "\n" in text:
         return load_controllers_yaml(text, launch_args=launch_args)
-    from rrbot_workshop.bringup import packages
+    from rrbot_workshop.description import packages
 
     with packages.use_package_path(package_path):
         reference, _ = packages.split_package_reference(text)

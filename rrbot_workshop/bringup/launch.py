@@ -20,9 +20,9 @@ from pathlib import Path
 from typing import Any
 
 from rrbot_workshop.bringup.inputs import controllers_config, description_to_urdf, hardware_initial_states
-from rrbot_workshop.bringup.packages import use_package_path
 from rrbot_workshop.bringup.system import System, namespaced, register, shared_graph, unique_name
 from rrbot_workshop.controller_manager.manager import ControllerManager
+from rrbot_workshop.description.packages import use_package_path
 from rrbot_workshop.exceptions import ControllerNotFound, ParameterError
 from rrbot_workshop.hardware_interface.resource_loading import mock_hardware_infos
 from rrbot_workshop.hardware_interface.resource_manager import ResourceManager
@@ -67,7 +67,7 @@ def bringup(
         name: System name for ``%control --system``; the robot name (plus a number if taken) by default.
         package_path: Folders searched first for packages (``$(find pkg)``, ``package://pkg/...``), before
             ``$RRBOT_WORKSHOP_PACKAGE_PATH`` and ``descriptions/``: source trees (a clone, a workspace's ``src/``)
-            or installed trees (see :mod:`rrbot_workshop.bringup.packages`).
+            or installed trees (see :mod:`rrbot_workshop.description.packages`).
         mock_hardware: None: load the plugins as written. ``"unknown"``: every ``<hardware><plugin>`` the library
             does not have becomes the mock of its component's type. ``"all"``: every component does. The
             replaced plugins are logged and kept in ``system.mocked_hardware``.

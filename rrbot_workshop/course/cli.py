@@ -259,7 +259,7 @@ def _cmd_export(args: argparse.Namespace) -> int:
         if args.withhold_references:
             raise CourseError("--withhold-references", "--ros2", "only applies to a student copy (--student DIR)")
 
-        from rrbot_workshop.bringup.packages import use_package_path
+        from rrbot_workshop.description.packages import use_package_path
 
         with use_package_path(args.package_path):
             result = export_ros2(args.ros2, force=args.force, task=args.task)

@@ -79,7 +79,7 @@ def external_plugin(ctype: str, source: str) -> str | None:
     """
     import xml.etree.ElementTree as ET
 
-    from rrbot_workshop.bringup import packages
+    from rrbot_workshop.description import packages
 
     prefix = ctype.partition("/")[0]
     folders: list[Path] = []

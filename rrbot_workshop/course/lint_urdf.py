@@ -37,7 +37,7 @@ def _expand(description: str | Path, xacro_args: Mapping[str, Any], package_path
     """URDF text of ``description``, with ``package_path`` searched first for ``$(find pkg)`` and ``package://``.
 
     The one place lint hands its package path to package lookup: through
-    ``rrbot_workshop.bringup.packages.use_package_path`` where the library has it, else by putting the folders in
+    ``rrbot_workshop.description.packages.use_package_path`` where the library has it, else by putting the folders in
     front of ``$RRBOT_WORKSHOP_PACKAGE_PATH`` while the file expands. An empty ``package_path`` changes nothing.
 
     Raises:
@@ -48,7 +48,7 @@ def _expand(description: str | Path, xacro_args: Mapping[str, Any], package_path
     if not package_path:
         return process_xacro(description, **xacro_args)
     try:
-        packages: Any = importlib.import_module("rrbot_workshop.bringup.packages")
+        packages: Any = importlib.import_module("rrbot_workshop.description.packages")
     except ImportError:
         packages = None
     use_package_path = getattr(packages, "use_package_path", None)

@@ -3,8 +3,8 @@
 The ``xacro`` package does the work. Two of its habits need care outside ROS:
 
 * ``$(find pkg)`` asks ``ament_index_python`` for the package's share folder. We swap that lookup for one that
-  searches the package path (:mod:`rrbot_workshop.bringup.packages`: the folders given to
-  :func:`~rrbot_workshop.bringup.packages.use_package_path`, ``$RRBOT_WORKSHOP_PACKAGE_PATH``, then
+  searches the package path (:mod:`rrbot_workshop.description.packages`: the folders given to
+  :func:`~rrbot_workshop.description.packages.use_package_path`, ``$RRBOT_WORKSHOP_PACKAGE_PATH``, then
   :func:`descriptions_root`), only while :func:`process_xacro` runs, then put the original back. A package found as
   a source tree gives a folder that looks like its installed ``share/<pkg>`` (its ``CMakeLists.txt`` install rules
   applied), so ``$(find pkg)/ros2_control/x.xacro`` finds ``<src>/description/ros2_control/x.xacro``.
@@ -30,33 +30,19 @@ from typing import Any
 import xacro
 import xacro.substitution_args as _subst
 
+from rrbot_workshop.description.packages import descriptions_root
 from rrbot_workshop.exceptions import DescriptionError
 
 __all__ = ["descriptions_root", "process_xacro", "resolve_package_uri", "available_packages", "find_package"]
 
 logger = logging.getLogger(__name__)
 
-#: Environment variable that points the package lookup at another ``descriptions/`` folder.
-DESCRIPTIONS_ENV = "RRBOT_WORKSHOP_DESCRIPTIONS"
-
 _LOCK = threading.RLock()
-
-
-def descriptions_root() -> Path:
-    """Folder that holds one sub-folder per robot description package (``rrbot/``, ``diffbot/``, ...).
-
-    Returns:
-        ``$RRBOT_WORKSHOP_DESCRIPTIONS`` if set, else ``descriptions/`` at the repository root.
-    """
-    override = os.environ.get(DESCRIPTIONS_ENV)
-    if override:
-        return Path(override).expanduser().resolve()
-    return Path(__file__).resolve().parents[2] / "descriptions"
 
 
 def available_packages() -> list[str]:
     """Names of the packages on the package path (by default the folders of :func:`descriptions_root`), sorted."""
-    from rrbot_workshop.bringup.packages import package_index
+    from rrbot_workshop.description.packages import package_index
 
     return package_index().names()
 
@@ -70,13 +56,13 @@ def find_package(package: str) -> Path:
     Returns:
         ``descriptions_root() / package`` for the course's descriptions, the installed ``share/<pkg>`` folder, or
         for a source tree the folder that looks like its installed form
-        (:func:`~rrbot_workshop.bringup.packages.share_directory`).
+        (:func:`~rrbot_workshop.description.packages.share_directory`).
 
     Raises:
         DescriptionError: If there is no such package; the message lists the packages that exist and the path
             searched.
     """
-    from rrbot_workshop.bringup.packages import share_directory
+    from rrbot_workshop.description.packages import share_directory
 
     try:
         return share_directory(package)
@@ -98,7 +84,7 @@ def resolve_package_uri(uri: str, base: str | Path | None = None) -> Path:
         DescriptionError: If a ``package://`` URI names an unknown package or has no package name.
     """
     if uri.startswith("package://"):
-        from rrbot_workshop.bringup.packages import resolve_uri
+        from rrbot_workshop.description.packages import resolve_uri
 
         return resolve_uri(uri, must_exist=False)
     if uri.startswith("file://"):
@@ -122,7 +108,7 @@ def _xacro_sandbox() -> Iterator[None]:
     """Redirect ``$(find)`` to :func:`find_package` and restore every xacro global afterwards."""
 
     def _eval_find(pkg: str) -> str:
-        from rrbot_workshop.bringup.packages import share_directory
+        from rrbot_workshop.description.packages import share_directory
 
         return str(share_directory(pkg))
 
@@ -214,7 +200,7 @@ def _as_description_error(err: Exception, file: Path) -> DescriptionError:
         return DescriptionError(f"{text}{where}", source=str(file), element=inner.element, attribute=inner.attribute)
     missing = _find_in_chain(err, FileNotFoundError)
     if isinstance(missing, FileNotFoundError) and missing.filename:
-        from rrbot_workshop.bringup.packages import explain_missing
+        from rrbot_workshop.description.packages import explain_missing
 
         explained = explain_missing(missing.filename)
         if explained is not None:  # a file missing from a source tree's install view: say where it was looked for

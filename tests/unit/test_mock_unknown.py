@@ -14,8 +14,8 @@ from pathlib import Path
 import pytest
 
 import rrbot_workshop as rw
-from rrbot_workshop.bringup import packages
 from rrbot_workshop.course.cli import main
+from rrbot_workshop.description import packages
 from rrbot_workshop.exceptions import HardwareError
 from rrbot_workshop.hardware.mock_substitutes import MockActuator, MockSensor
 from rrbot_workshop.middleware import plugins

@@ -15,10 +15,9 @@ from pathlib import Path
 import pytest
 
 import rrbot_workshop as rw
-from rrbot_workshop.bringup import packages
 from rrbot_workshop.bringup.inputs import description_to_urdf
-from rrbot_workshop.bringup.packages import PACKAGE_PATH_ENV, parse_install_rules
-from rrbot_workshop.description import process_xacro, resolve_package_uri
+from rrbot_workshop.description import packages, process_xacro, resolve_package_uri
+from rrbot_workshop.description.packages import PACKAGE_PATH_ENV, parse_install_rules
 from rrbot_workshop.exceptions import DescriptionError, ParameterError
 from rrbot_workshop.msgs import Float64MultiArray
 
@@ -107,7 +106,7 @@ def test_two_packages_with_one_name_the_first_on_the_path_wins_and_a_warning_say
     """As in ROS: the first folder of the path wins; the log names both."""
     first = _make_package(tmp_path / "a" / "twin", "twin_pkg", {"urdf/x.txt": "first"})
     second = _make_package(tmp_path / "b" / "twin", "twin_pkg", {"urdf/x.txt": "second"})
-    with caplog.at_level(logging.WARNING, logger="rrbot_workshop.bringup.packages"):
+    with caplog.at_level(logging.WARNING, logger="rrbot_workshop.description.packages"):
         index = packages.package_index([tmp_path / "a", tmp_path / "b"])
     assert index.packages["twin_pkg"].path == first
     assert [p.path for p in index.shadowed["twin_pkg"]] == [second]
@@ -124,7 +123,7 @@ def test_a_malformed_package_xml_is_named_with_its_line(tmp_path: Path, caplog: 
     broken.write_text('<?xml version="1.0"?>\n<package format="3">\n  <name>broken_pkg</nam>\n</package>\n')
     (tmp_path / "nameless" ).mkdir()
     (tmp_path / "nameless" / "package.xml").write_text('<package format="3"><version>1</version></package>')
-    with caplog.at_level(logging.WARNING, logger="rrbot_workshop.bringup.packages"):
+    with caplog.at_level(logging.WARNING, logger="rrbot_workshop.description.packages"):
         index = packages.package_index([tmp_path])
     assert str(broken) in caplog.text and "line 3" in caplog.text
     with pytest.raises(DescriptionError) as info:

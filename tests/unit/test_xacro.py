@@ -8,7 +8,8 @@ import pytest
 import xacro.substitution_args as subst
 
 from rrbot_workshop.description import descriptions_root, process_xacro, resolve_package_uri
-from rrbot_workshop.description.xacro import DESCRIPTIONS_ENV, available_packages, find_package
+from rrbot_workshop.description.packages import DESCRIPTIONS_ENV
+from rrbot_workshop.description.xacro import available_packages, find_package
 from rrbot_workshop.exceptions import DescriptionError
 
 _HEAD = '<?xml version="1.0"?>\n<robot name="t" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'

@@ -499,6 +499,22 @@ _CACHE: dict[tuple[Path, ...], PackageIndex] = {}
 _SEEN: dict[str, Package] = {}
 
 
+#: Environment variable that points the package lookup at another ``descriptions/`` folder.
+DESCRIPTIONS_ENV = "RRBOT_WORKSHOP_DESCRIPTIONS"
+
+def descriptions_root() -> Path:
+    """Folder that holds one sub-folder per robot description package (``rrbot/``, ``diffbot/``, ...).
+
+    Returns:
+        ``$RRBOT_WORKSHOP_DESCRIPTIONS`` if set, else ``descriptions/`` at the repository root.
+    """
+    override = os.environ.get(DESCRIPTIONS_ENV)
+    if override:
+        return Path(override).expanduser().resolve()
+    return Path(__file__).resolve().parents[2] / "descriptions"
+
+
+
 def _as_entries(paths: Iterable[str | os.PathLike[str]] | str | os.PathLike[str] | None) -> list[Path]:
     if paths is None:
         return []
@@ -520,8 +536,6 @@ def package_path(extra: Iterable[str | os.PathLike[str]] | str | os.PathLike[str
     Raises:
         DescriptionError: If a folder does not exist, or is the file system root or the home folder.
     """
-    from rrbot_workshop.description.xacro import descriptions_root
-
     entries: list[Path] = []
     given = [*_as_entries(extra), *_EXTRA.get()]
     from_env = _as_entries(os.environ.get(PACKAGE_PATH_ENV, ""))
