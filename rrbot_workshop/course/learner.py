@@ -17,17 +17,16 @@ Each load re-reads the file from disk, so a learner edits, saves and re-runs the
 from __future__ import annotations
 
 import logging
-import os
 import pprint
 import re
 import sys
-import traceback
 from collections.abc import Callable
 from pathlib import Path
 from types import ModuleType
 from typing import Any
 
 from rrbot_workshop.course import tracks
+from rrbot_workshop.course.tracks import short_error, shown
 
 _log = logging.getLogger(__name__)
 
@@ -40,37 +39,6 @@ _TODO = re.compile(r"TODO\(task [0-9.]+\)")
 def task_file(task: int, relpath: str, track: str | None = None) -> Path:
     """Path of ``relpath`` inside task ``task``'s folder on ``track`` (default: the current track)."""
     return tracks.task_dir(task, track) / relpath
-
-
-def shown(path: Path) -> str:
-    """``path`` as the learner knows it: relative to the course folder (``exercises/task02_.../bringup.py``).
-
-    The same text whatever folder the track really reads (the test command may point the exercises track at a
-    temporary copy), so a notebook's output does not depend on it.
-    """
-    path = Path(path).resolve()
-    exercises = os.environ.get(tracks.EXERCISES_ENV)
-    if exercises and path.is_relative_to(Path(exercises).resolve()):
-        return (Path("exercises") / path.relative_to(Path(exercises).resolve())).as_posix()
-    root = tracks.course_root()
-    return path.relative_to(root).as_posix() if path.is_relative_to(root) else path.as_posix()
-
-
-def short_error(exc: BaseException, path: Path | None = None) -> str:
-    """One line for ``exc`` and, when the error is in the learner's file ``path``, where in it.
-
-    Frames inside the library, importlib and Python are left out: the learner sees their own line.
-    """
-    text = f"{type(exc).__name__}: {exc}"
-    if isinstance(exc, SyntaxError) and exc.filename and exc.lineno:
-        return f"{text} ({Path(exc.filename).name}, line {exc.lineno})"
-    if path is not None:
-        frames = [f for f in traceback.extract_tb(exc.__traceback__) if Path(f.filename) == path]
-        if frames:
-            last = frames[-1]
-            code = f": {last.line.strip()}" if last.line else ""
-            return f"{text} (in {path.name}, line {last.lineno}{code})"
-    return text
 
 
 def load_module(task: int, relpath: str, *, track: str | None = None, quiet: bool = False) -> ModuleType | None:

@@ -28,6 +28,7 @@ import logging
 import os
 import re
 import sys
+import traceback
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -409,8 +410,6 @@ def unfinished_problem(path: Path, class_name: str) -> tuple[int | None, str, An
         ``(line, problem, cls)``: ``problem`` is ``""`` and ``cls`` the class when it is finished; otherwise
         ``problem`` says what is unfinished (with the file's name and line) and ``cls`` is ``None``.
     """
-    from rrbot_workshop.course.learner import short_error
-
     try:
         source = path.read_text(encoding="utf-8")
         tree = ast.parse(source, filename=str(path))
@@ -442,8 +441,6 @@ def _traceback_frames(exc: BaseException) -> list[Any]:
 
 
 def _shown(path: Path) -> str:
-    from rrbot_workshop.course.learner import shown
-
     try:
         return shown(path)
     except CourseError:
@@ -530,3 +527,34 @@ def install() -> None:
     _installed = True
     for plugin in TRACK_PLUGINS:
         plugins.register_resolver(plugin.kind, plugin.type_name, functools.partial(load_track_class, plugin))
+
+
+def shown(path: Path) -> str:
+    """``path`` as the learner knows it: relative to the course folder (``exercises/task02_.../bringup.py``).
+
+    The same text whatever folder the track really reads (the test command may point the exercises track at a
+    temporary copy), so a notebook's output does not depend on it.
+    """
+    path = Path(path).resolve()
+    exercises = os.environ.get(EXERCISES_ENV)
+    if exercises and path.is_relative_to(Path(exercises).resolve()):
+        return (Path("exercises") / path.relative_to(Path(exercises).resolve())).as_posix()
+    root = course_root()
+    return path.relative_to(root).as_posix() if path.is_relative_to(root) else path.as_posix()
+
+
+def short_error(exc: BaseException, path: Path | None = None) -> str:
+    """One line for ``exc`` and, when the error is in the learner's file ``path``, where in it.
+
+    Frames inside the library, importlib and Python are left out: the learner sees their own line.
+    """
+    text = f"{type(exc).__name__}: {exc}"
+    if isinstance(exc, SyntaxError) and exc.filename and exc.lineno:
+        return f"{text} ({Path(exc.filename).name}, line {exc.lineno})"
+    if path is not None:
+        frames = [f for f in traceback.extract_tb(exc.__traceback__) if Path(f.filename) == path]
+        if frames:
+            last = frames[-1]
+            code = f": {last.line.strip()}" if last.line else ""
+            return f"{text} (in {path.name}, line {last.lineno}{code})"
+    return text
