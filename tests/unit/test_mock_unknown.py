@@ -14,6 +14,7 @@ from pathlib import Path
 import pytest
 
 import rrbot_workshop as rw
+from rrbot_workshop.bringup import System, systems
 from rrbot_workshop.course.cli import main
 from rrbot_workshop.description import packages
 from rrbot_workshop.exceptions import HardwareError
@@ -34,14 +35,14 @@ ORIGINAL = {
 @pytest.fixture(autouse=True)
 def _clean(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.delenv(packages.PACKAGE_PATH_ENV, raising=False)
-    for system in list(rw.bringup.systems().values()):
+    for system in list(systems().values()):
         system.shutdown()
     yield
-    for system in list(rw.bringup.systems().values()):
+    for system in list(systems().values()):
         system.shutdown()
 
 
-def _plugins(system: rw.bringup.System) -> dict[str, tuple[str, str]]:
+def _plugins(system: System) -> dict[str, tuple[str, str]]:
     return {c.name: (c.type, c.plugin_name) for c in system.controller_manager.list_hardware_components()}
 
 
@@ -76,7 +77,7 @@ def test_unknown_plugins_fail_without_mock_hardware() -> None:
     """As Jazzy: a plugin nobody provides is an error naming the component; nothing is left running."""
     with pytest.raises(HardwareError, match="hardware component 'TinyBotShoulder'.*tinybot_example/TinyBotShoulder"):
         rw.bringup(TINYBOT, YAML, package_path=[SRC])
-    assert rw.bringup.systems() == {}
+    assert systems() == {}
 
 
 def test_unknown_plugins_become_the_mock_of_their_type_and_are_reported(caplog: pytest.LogCaptureFixture) -> None:
@@ -125,7 +126,7 @@ def test_generic_system_on_a_sensor_is_refused_with_the_fix() -> None:
     text = str(info.value)
     assert "'TinyWristSensor'" in text and 'type="sensor"' in text and "mock_components/GenericSystem" in text
     assert "SystemInterface" in text and 'type="system"' in text and "Fix:" in text
-    assert rw.bringup.systems() == {}
+    assert systems() == {}
     # 'all' mocks the sensor by its type instead
     with rw.bringup(TINYBOT, package_path=[SRC], mock_hardware="all", xacro_args={"generic_sensor": True}) as system:
         assert _plugins(system)["TinyWristSensor"] == ("sensor", "rrbot_workshop/MockSensor")
@@ -154,7 +155,7 @@ def test_a_plugin_of_another_type_is_refused_on_an_actuator() -> None:
 def test_an_invalid_mode_is_refused_before_anything_runs() -> None:
     with pytest.raises(HardwareError, match=r"mock_hardware='some' is not valid \(valid: None, 'unknown', 'all'\)"):
         rw.bringup(TINYBOT, package_path=[SRC], mock_hardware="some")
-    assert rw.bringup.systems() == {}
+    assert systems() == {}
 
 
 def test_mock_sensor_ignores_command_mocking_with_a_warning(caplog: pytest.LogCaptureFixture) -> None:
@@ -182,7 +183,7 @@ def test_cli_bringup_prints_hardware_mocks_controllers_and_joint_states(capsys: 
     assert "TinyWristSensor  sensor  rrbot_workshop/MockSensor  active  [mock, replaces tinybot_example/TinyWristSensor]" in out
     assert "position_controller  position_controllers/JointGroupPositionController  active" in out
     assert "shoulder  position 0.2000  velocity 0.0000" in out  # initial_value of the shoulder's position
-    assert rw.bringup.systems() == {}  # shut down at the end
+    assert systems() == {}  # shut down at the end
 
 
 def test_cli_bringup_errors_are_one_line_with_exit_status_2(capsys: pytest.CaptureFixture[str]) -> None:
@@ -224,7 +225,7 @@ def test_a_mocked_joint_takes_several_control_modes_where_genericsystem_refuses_
     with pytest.raises(SwitchError, match="2 control modes at once"):
         rw.bringup(urdf("mock_components/GenericSystem", '<param name="calculate_dynamics">true</param>'), yaml,
                    spawn=["jtc"])
-    assert rw.bringup.systems() == {}
+    assert systems() == {}
 
 
 def test_cli_bringup_args_fill_the_yaml_vars_and_the_namespace_applies(tmp_path: Path,

@@ -15,6 +15,7 @@ from pathlib import Path
 import pytest
 
 import rrbot_workshop as rw
+from rrbot_workshop.bringup import systems
 from rrbot_workshop.bringup.inputs import description_to_urdf
 from rrbot_workshop.description import packages, process_xacro, resolve_package_uri
 from rrbot_workshop.description.packages import PACKAGE_PATH_ENV, parse_install_rules
@@ -31,7 +32,7 @@ CONTROLLERS = ["joint_state_broadcaster", "position_controller", "wrist_ft_broad
 def _clean(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.delenv(PACKAGE_PATH_ENV, raising=False)
     packages.clear_cache()
-    for system in list(rw.bringup.systems().values()):
+    for system in list(systems().values()):
         system.shutdown()
 
 
