@@ -24,14 +24,7 @@ from rrbot_workshop.hardware.mock import GenericSystem
 from rrbot_workshop.hardware_interface.handles import CommandInterface
 from rrbot_workshop.middleware.lifecycle import CallbackReturn, ReturnType
 
-__all__ = ["MockActuator", "MockSensor", "MOCK_PLUGINS"]
-
-#: Component type -> the plugin that mocks it.
-MOCK_PLUGINS: dict[str, str] = {
-    "system": "mock_components/GenericSystem",
-    "actuator": "rrbot_workshop/MockActuator",
-    "sensor": "rrbot_workshop/MockSensor",
-}
+__all__ = ["MockActuator", "MockSensor"]
 
 
 class MockActuator(GenericSystem):

@@ -22,7 +22,14 @@ from rrbot_workshop.hardware_interface.resource_storage import InterfaceStorage
 from rrbot_workshop.middleware import plugins
 from rrbot_workshop.middleware.lifecycle import State
 
-__all__ = ["ComponentEntry", "check_infos", "load_component", "cycle_order", "mock_hardware_infos", "MOCK_MODES"]
+__all__ = ["ComponentEntry", "check_infos", "load_component", "cycle_order", "mock_hardware_infos", "MOCK_MODES", "MOCK_PLUGINS"]
+
+#: Component type -> the plugin that mocks it (``hardware/mock_substitutes.py`` holds the two that are not Jazzy's).
+MOCK_PLUGINS: dict[str, str] = {
+    "system": "mock_components/GenericSystem",
+    "actuator": "rrbot_workshop/MockActuator",
+    "sensor": "rrbot_workshop/MockSensor",
+}
 
 #: What ``bringup(..., mock_hardware=...)`` accepts: None (load the plugins as written), ``"unknown"``, ``"all"``.
 MOCK_MODES = (None, "unknown", "all")
@@ -147,8 +154,6 @@ def mock_hardware_infos(infos: Sequence[HardwareInfo], mode: str | None) -> tupl
             system/actuator/sensor.
     """
     import dataclasses
-
-    from rrbot_workshop.hardware.mock_substitutes import MOCK_PLUGINS
 
     if mode not in MOCK_MODES:
         raise HardwareError(f"mock_hardware={mode!r} is not valid (valid: None, 'unknown', 'all')")
