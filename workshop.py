@@ -12,7 +12,7 @@ import sys
 from pathlib import Path
 
 _HERE = Path(__file__).resolve().parent
-_spec = importlib.util.spec_from_file_location("rrbot_workshop_launcher", _HERE / "rrbot_workshop" / "course" / "launcher.py")
+_spec = importlib.util.spec_from_file_location("rrbot_workshop_launcher", _HERE / "rrbot_workshop" / "classroom" / "launcher.py")
 assert _spec is not None and _spec.loader is not None
 _launcher = importlib.util.module_from_spec(_spec)
 _spec.loader.exec_module(_launcher)

@@ -15,10 +15,10 @@ import time
 from pathlib import Path
 
 from rrbot_workshop.controller_manager.manager import ControllerManager
-from rrbot_workshop.course.lint import lint_controllers
 from rrbot_workshop.description.info import ComponentInfo, HardwareInfo, InterfaceInfo
 from rrbot_workshop.hardware_interface.resource_manager import ResourceManager
 from rrbot_workshop.middleware.params import load_controllers_yaml
+from rrbot_workshop.tools.lint import lint_controllers
 
 FORWARD = "forward_command_controller/ForwardCommandController"
 

@@ -21,7 +21,7 @@ import time
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
-from rrbot_workshop.course.room import Room
+from rrbot_workshop.classroom.room import Room
 
 ROOT = Path(__file__).resolve().parents[1]
 SOLUTION = ROOT / "solutions" / "task02_mock_hardware"

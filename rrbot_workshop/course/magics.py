@@ -28,8 +28,8 @@ from typing import Any
 import yaml
 
 from rrbot_workshop.bringup import System, current_system, get_system, systems
-from rrbot_workshop.course.message_yaml import message_from_dict, message_to_yaml, message_type, ros_time
 from rrbot_workshop.exceptions import MessageError, RRBotWorkshopError
+from rrbot_workshop.tools.message_yaml import message_from_dict, message_to_yaml, message_type, ros_time
 
 __all__ = ["control", "topic", "load_ipython_extension", "message_from_dict", "message_to_yaml", "ros_time"]
 

@@ -40,12 +40,8 @@ the generated files are checked to parse (XML, Python), and every ``DeclareLaunc
 
 from __future__ import annotations
 
-import ast
-import os
-import re
 import shutil
 import xml.etree.ElementTree as ET
-from collections.abc import Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -53,14 +49,22 @@ from rrbot_workshop.course import tracks
 from rrbot_workshop.exceptions import CourseError, DescriptionError, ParameterError, RRBotWorkshopError
 from rrbot_workshop.middleware.names import NODE_NAME_RULE, node_name_problem
 from rrbot_workshop.middleware.params import load_controllers_yaml
+from rrbot_workshop.tools.ros2_package import (
+    Created,
+    check_generated,
+    check_target,
+    cmakelists,
+    description_packages,
+    launch_argument_problem,
+    launch_file,
+    launch_packages,
+    package_xml,
+)
 
-__all__ = ["Ros2Export", "ExportSource", "export_sources", "export_problems", "export_ros2"]
+__all__ = ["Ros2Export", "ExportSource", "export_sources", "export_problems", "export_ros2", "launch_argument_problem"]
 
-_MAINTAINER = "learner@example.com"
 #: Broadcaster types: spawned first, never the "robot controller".
 _BROADCASTER_SUFFIXES = ("Broadcaster",)
-#: The longest file or folder name most file systems take, in bytes.
-_NAME_MAX = 255
 #: Where a task keeps the files that are exported.
 _DESCRIPTION = Path("rrbot_description") / "urdf"
 _XACRO = "rrbot.urdf.xacro"
@@ -73,10 +77,6 @@ _MOCK = "mock_components/GenericSystem"
 _PLUGIN_PACKAGES = {"mock_components": "hardware_interface"}
 #: Plugin prefixes of this library alone: ROS 2 has no such plugin.
 _LIBRARY_ONLY = ("rrbot_workshop",)
-#: Executables the generated launch file finds, and the package that installs each.
-_EXECUTABLE_PACKAGES = {"xacro": "xacro"}
-_COMMENT = re.compile(r"<!--.*?-->", re.DOTALL)
-_FIND = re.compile(r"\$\(find\s+([A-Za-z0-9_]+)\)|package://([A-Za-z0-9_]+)/")
 
 
 @dataclass
@@ -133,119 +133,6 @@ class Ros2Export:
     to_port: list[str] = field(default_factory=list)
 
 
-def _package_xml(name: str, description: str, build_type: str, exec_depends: list[str]) -> str:
-    depends = "\n".join(f"  <exec_depend>{d}</exec_depend>" for d in exec_depends)
-    return f"""<?xml version="1.0"?>
-<?xml-model href="http://download.ros.org/schema/package_format3.xsd" schematypens="http://www.w3.org/2001/XMLSchema"?>
-<package format="3">
-  <name>{name}</name>
-  <version>0.1.0</version>
-  <description>{description}</description>
-  <maintainer email="{_MAINTAINER}">rrbot_workshop learner</maintainer>
-  <license>Apache-2.0</license>
-
-  <buildtool_depend>ament_cmake</buildtool_depend>
-
-{depends}
-
-  <export>
-    <build_type>{build_type}</build_type>
-  </export>
-</package>
-"""
-
-
-def _cmakelists(name: str, folders: list[str]) -> str:
-    return f"""cmake_minimum_required(VERSION 3.16)
-project({name})
-
-find_package(ament_cmake REQUIRED)
-
-install(
-  DIRECTORY {" ".join(folders)}
-  DESTINATION share/${{PROJECT_NAME}}
-)
-
-ament_package()
-"""
-
-
-def _launch_file(controllers_file: str, robot_controllers: list[str], broadcasters: list[str]) -> str:
-    # Names enter the code only as Python literals (repr), never inside a docstring or a string being written:
-    # whatever a name holds, it stays data. (They are also checked as ROS node names before anything is written.)
-    default = robot_controllers[0] if robot_controllers else ""
-    others = repr(list(robot_controllers))
-    return f'''"""Bring RRBot up: the launch file equivalent to the course's ``bringup.py``.
-
-Arguments: ``robot_controller`` (one of ROBOT_CONTROLLERS below, default the first), ``use_mock_hardware``
-(default true), ``mock_sensor_commands`` (default false). The broadcasters start first; the robot
-controller once they are active; the other robot controllers are loaded and configured, inactive.
-"""
-
-from launch import LaunchDescription
-from launch.actions import DeclareLaunchArgument, OpaqueFunction, RegisterEventHandler
-from launch.event_handlers import OnProcessExit
-from launch.substitutions import Command, FindExecutable, LaunchConfiguration, PathJoinSubstitution
-from launch_ros.actions import Node
-from launch_ros.parameter_descriptions import ParameterValue
-from launch_ros.substitutions import FindPackageShare
-
-ROBOT_CONTROLLERS = {others}
-BROADCASTERS = {list(broadcasters)!r}
-
-
-def _spawner(arguments):
-    return Node(
-        package="controller_manager",
-        executable="spawner",
-        arguments=[*arguments, "--controller-manager", "/controller_manager", "--param-file", CONTROLLERS],
-    )
-
-
-CONTROLLERS = PathJoinSubstitution([FindPackageShare("controlko_bringup"), "config", {controllers_file!r}])
-
-
-def _nodes(context):
-    robot_controller = LaunchConfiguration("robot_controller").perform(context)
-    if robot_controller not in ROBOT_CONTROLLERS:
-        raise RuntimeError(f"robot_controller must be one of {{ROBOT_CONTROLLERS}}, not '{{robot_controller}}'")
-    description = ParameterValue(
-        Command([
-            PathJoinSubstitution([FindExecutable(name="xacro")]), " ",
-            PathJoinSubstitution([FindPackageShare("controlko_description"), "urdf", "rrbot.urdf.xacro"]),
-            " use_mock_hardware:=", LaunchConfiguration("use_mock_hardware"),
-            " mock_sensor_commands:=", LaunchConfiguration("mock_sensor_commands"),
-        ]),
-        value_type=str,
-    )
-    nodes = [
-        Node(package="robot_state_publisher", executable="robot_state_publisher",
-             parameters=[{{"robot_description": description}}]),
-        # Jazzy's controller manager reads the description from robot_state_publisher's topic.
-        Node(package="controller_manager", executable="ros2_control_node", parameters=[CONTROLLERS],
-             remappings=[("~/robot_description", "/robot_description")], output="both"),
-    ]
-    broadcasters = [_spawner([name]) for name in BROADCASTERS]
-    robot = [_spawner([robot_controller])]
-    robot += [_spawner([other, "--inactive"]) for other in ROBOT_CONTROLLERS if other != robot_controller]
-    nodes += broadcasters
-    if broadcasters:  # the robot controller starts once the joint states are published
-        nodes.append(RegisterEventHandler(OnProcessExit(target_action=broadcasters[-1], on_exit=robot)))
-    else:
-        nodes += robot
-    return nodes
-
-
-def generate_launch_description():
-    return LaunchDescription([
-        DeclareLaunchArgument("robot_controller", default_value={default!r}, choices={others}),
-        DeclareLaunchArgument("use_mock_hardware", default_value="true"),
-        DeclareLaunchArgument("mock_sensor_commands", default_value="false"),
-        OpaqueFunction(function=_nodes),
-    ])
-'''
-
-
 def _readme(result: Ros2Export, references: list[str]) -> str:
     robot_controllers = result.robot_controllers
     ported = "\n".join(f"- {r}" for r in references) or "- (none of tasks 7 and 8 written yet)"
@@ -281,80 +168,6 @@ to port from:
 
 {ported}
 """
-
-
-def _check_generated(name: str, text: str) -> None:
-    """Generated files must parse, or the export fails here (before anything is written) instead of in colcon."""
-    try:
-        if name.endswith(".xml"):
-            ET.fromstring(text.split("?>", 2)[-1] if text.startswith("<?xml") else text)
-        elif name.endswith(".py"):
-            compile(text, name, "exec", flags=ast.PyCF_ONLY_AST)
-    except (SyntaxError, ValueError, ET.ParseError) as exc:  # our template failed: say so, write nothing
-        raise CourseError("export", name, f"the generated {name} does not parse ({exc}); nothing was written") from exc
-    if name.endswith(".launch.py"):
-        problem = launch_argument_problem(text)
-        if problem:
-            raise CourseError("export", name, f"the generated {name} would be refused by ros2 launch ({problem}); "
-                              "nothing was written")
-
-
-def launch_argument_problem(text: str) -> str:
-    """Why ``ros2 launch`` would refuse a ``DeclareLaunchArgument`` of the launch file ``text``, or ``""``.
-
-    Every call must give the name and ``default_value`` as text literals; ``choices``, when given, a non-empty list
-    of text literals that holds the default (launch raises on an empty ``choices`` and on a default outside them).
-    """
-    for node in ast.walk(ast.parse(text)):
-        if not (isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id == "DeclareLaunchArgument"):
-            continue
-        if not node.args or not isinstance(node.args[0], ast.Constant) or not isinstance(node.args[0].value, str):
-            return f"a DeclareLaunchArgument at line {node.lineno} has no literal name"
-        name = node.args[0].value
-        keywords = {k.arg: k.value for k in node.keywords}
-        default = keywords.get("default_value")
-        if not isinstance(default, ast.Constant) or not isinstance(default.value, str):
-            return f"launch argument '{name}' has no text default_value"
-        if "choices" in keywords:
-            try:
-                choices = ast.literal_eval(keywords["choices"])
-            except ValueError:
-                return f"launch argument '{name}': choices must be a literal list"
-            if not isinstance(choices, list) or not choices or not all(isinstance(c, str) for c in choices):
-                return f"launch argument '{name}' has choices={choices!r}: launch refuses an empty or non-text list"
-            if default.value not in choices:
-                return f"launch argument '{name}': its default {default.value!r} is not among its choices {choices}"
-    return ""
-
-
-def _check_target(target: object) -> Path:
-    """The output folder, resolved, or one clear CourseError (empty, a file, not writable, a name too long)."""
-    if not isinstance(target, str | os.PathLike):
-        raise CourseError("export target", target, f"must be a folder path, got {type(target).__name__}")
-    text = os.fspath(target)
-    if not isinstance(text, str) or not text.strip():
-        raise CourseError("export target", text, "the target folder is empty text; give the path of a new folder to write into")
-    if "\x00" in text or "\n" in text or "\r" in text:
-        raise CourseError("export target", text, "contains a NUL or line break; give an ordinary folder path")
-    try:
-        root = Path(text).expanduser().resolve()
-        exists, is_dir = root.exists(), root.is_dir()
-        if is_dir:
-            non_empty = any(root.iterdir())
-    except (OSError, RuntimeError) as exc:
-        raise CourseError("export target", text, f"cannot be used: {getattr(exc, 'strerror', None) or exc}") from exc
-    if exists and not is_dir:
-        raise CourseError("export target", str(root), "is a file, not a folder; choose a new folder")
-    too_long = [part for part in root.parts if len(part.encode()) > _NAME_MAX]
-    if too_long:
-        raise CourseError("export target", str(root), f"has a folder name of {len(too_long[0].encode())} bytes; "
-                                                      f"file systems allow at most {_NAME_MAX}")
-    if exists and non_empty:
-        return root
-    parent = root if exists else next((p for p in root.parents if p.exists()), root.anchor and Path(root.anchor))
-    if not isinstance(parent, Path) or not parent.is_dir() or not os.access(parent, os.W_OK | os.X_OK):
-        raise CourseError("export target", str(root), f"cannot be written: {parent} is not a writable folder")
-    return root
 
 
 def _controllers_yaml(folder: Path) -> Path | None:
@@ -429,8 +242,8 @@ def _plugin(plan: _Plan, type_name: str, where: str) -> None:
 
 def _check(source: ExportSource) -> _Plan:
     """Everything :func:`export_problems` checks, and what the manifests need (nothing is written)."""
-    from rrbot_workshop.course.lint import lint_controllers
     from rrbot_workshop.description import parse_ros2_control, process_xacro
+    from rrbot_workshop.tools.lint import lint_controllers
 
     plan = _Plan()
     xacro = source.urdf / _XACRO
@@ -546,45 +359,6 @@ def _not_ready(plans: list[tuple[ExportSource, _Plan]], *, chosen: bool, tasks: 
     return "\n".join(lines)
 
 
-def _unique(items: Iterable[str]) -> list[str]:
-    return list(dict.fromkeys(items))
-
-
-def _text(node: ast.expr | None) -> str | None:
-    return node.value if isinstance(node, ast.Constant) and isinstance(node.value, str) else None
-
-
-def _launch_packages(text: str) -> list[str]:
-    """The packages a launch file needs at run time, read from its code."""
-    found: list[str | None] = []
-    tree = ast.parse(text)
-    for node in ast.walk(tree):
-        if isinstance(node, ast.ImportFrom) and node.module:
-            found.append(node.module.split(".", 1)[0])
-        elif isinstance(node, ast.Import):
-            found += [alias.name.split(".", 1)[0] for alias in node.names]
-        elif isinstance(node, ast.Call) and isinstance(node.func, ast.Name):
-            keywords = {k.arg: k.value for k in node.keywords}
-            if node.func.id == "Node":
-                found.append(_text(keywords.get("package")))
-            elif node.func.id == "FindPackageShare" and node.args:
-                found.append(_text(node.args[0]))
-            elif node.func.id == "FindExecutable":
-                executable = _text(keywords.get("name"))
-                found.append(_EXECUTABLE_PACKAGES.get(executable, executable) if executable else None)
-    return _unique(["ros2launch", *(f for f in found if f)])  # ros2launch: the `ros2 launch` command that runs it
-
-
-def _description_packages(files: Iterable[Path], own: str) -> list[str]:
-    found = ["xacro"]
-    for path in files:
-        if path.suffix in (".xacro", ".urdf"):
-            text = _COMMENT.sub("", path.read_text(encoding="utf-8", errors="replace"))
-            for match in _FIND.finditer(text):
-                found.append(match.group(1) or match.group(2))
-    return sorted(set(found) - {own})
-
-
 def export_ros2(target: str | Path, *, force: bool = False, task: int | None = None) -> Ros2Export:
     """Write the learner's description and bringup of one task as ROS 2 packages under ``target``.
 
@@ -607,7 +381,7 @@ def export_ros2(target: str | Path, *, force: bool = False, task: int | None = N
             has files to export, or ``task`` has none; the chosen task's files are not ready (every problem is
             listed, see :func:`export_problems`); or writing fails.
     """
-    root = _check_target(target)
+    root = check_target(target)
     if root.is_dir() and any(root.iterdir()) and not force:
         raise CourseError("export target", str(root), "is not empty; choose a new folder (or pass --force)")
     source, plan, ready = _choose(task)
@@ -637,30 +411,30 @@ def export_ros2(target: str | Path, *, force: bool = False, task: int | None = N
                     f"finish task {ported} first)") if stubs else ""
             references.append(f"`python_reference/{dst.relative_to(root / 'python_reference').as_posix()}`{note}")
 
-    launch = _launch_file(source.controllers.name, plan.robot_controllers, plan.broadcasters)
+    launch = launch_file(source.controllers.name, plan.robot_controllers, plan.broadcasters)
     result.exec_depends = {
-        "controlko_description": _description_packages(urdf_files, "controlko_description"),
-        "controlko_bringup": sorted((set(_launch_packages(launch)) | set(plan.plugin_packages)) - {"controlko_bringup"}),
+        "controlko_description": description_packages(urdf_files, "controlko_description"),
+        "controlko_bringup": sorted((set(launch_packages(launch)) | set(plan.plugin_packages)) - {"controlko_bringup"}),
     }
     files = {
-        description / "package.xml": _package_xml(
+        description / "package.xml": package_xml(
             "controlko_description", "RRBot description (xacro, ros2_control tag), from rrbot_workshop.",
             "ament_cmake", result.exec_depends["controlko_description"],
         ),
-        description / "CMakeLists.txt": _cmakelists("controlko_description", ["urdf"]),
-        bringup / "package.xml": _package_xml(
+        description / "CMakeLists.txt": cmakelists("controlko_description", ["urdf"]),
+        bringup / "package.xml": package_xml(
             "controlko_bringup", "RRBot bringup: controllers YAML and launch file, from rrbot_workshop.",
             "ament_cmake", result.exec_depends["controlko_bringup"],
         ),
-        bringup / "CMakeLists.txt": _cmakelists("controlko_bringup", ["config", "launch"]),
+        bringup / "CMakeLists.txt": cmakelists("controlko_bringup", ["config", "launch"]),
         bringup / "launch" / "rrbot.launch.py": launch,
         root / "README.md": _readme(result, references),
     }
     for path, text in files.items():
-        _check_generated(path.name, text)
+        check_generated(path.name, text)
 
     # ---- write
-    created = _Created()
+    created = Created()
     try:
         created.folder(root)
         for dst, src in copies.items():
@@ -678,23 +452,3 @@ def export_ros2(target: str | Path, *, force: bool = False, task: int | None = N
         raise CourseError("export target", str(root), f"writing failed ({exc.strerror or exc}); what this export "
                           "had written was removed") from exc
     return result
-
-
-class _Created:
-    """What an export created, to remove it again if writing fails half-way."""
-
-    def __init__(self) -> None:
-        self.folders: list[Path] = []
-        self.files: list[Path] = []
-
-    def folder(self, path: Path) -> None:
-        missing = [p for p in (path, *path.parents) if not p.exists()]
-        for p in reversed(missing):
-            p.mkdir()
-            self.folders.append(p)
-
-    def undo(self) -> None:
-        for f in reversed(self.files):
-            f.unlink(missing_ok=True)
-        for d in reversed(self.folders):
-            shutil.rmtree(d, ignore_errors=True)

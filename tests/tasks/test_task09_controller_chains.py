@@ -40,9 +40,9 @@ import rrbot_workshop as rw
 from rrbot_workshop import tuning
 from rrbot_workshop.bringup import System, bringup
 from rrbot_workshop.course.grading import graded
-from rrbot_workshop.course.lint import lint_controllers
 from rrbot_workshop.description.xacro import descriptions_root
 from rrbot_workshop.msgs import JointTrajectory, JointTrajectoryPoint, MultiDOFCommand
+from rrbot_workshop.tools.lint import lint_controllers
 
 TASK = 9
 CONTROLLERS = "rrbot_bringup/config/rrbot_chained_controllers.yaml"

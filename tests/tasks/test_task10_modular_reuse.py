@@ -40,9 +40,9 @@ from hypothesis import strategies as st
 import rrbot_workshop as rw
 from rrbot_workshop.bringup import System, bringup
 from rrbot_workshop.course.grading import graded
-from rrbot_workshop.course.lint import lint_controllers
 from rrbot_workshop.description import descriptions_root, parse_ros2_control, process_xacro
 from rrbot_workshop.msgs import JointTrajectory, JointTrajectoryPoint, Twist, TwistStamped, Vector3
+from rrbot_workshop.tools.lint import lint_controllers
 
 TASK = 10
 DESCRIPTION = "rrbot_on_diffbot_description/urdf/rrbot_on_diffbot.urdf.xacro"

@@ -35,9 +35,9 @@ from hypothesis import strategies as st
 import rrbot_workshop as rw
 from rrbot_workshop.bringup import System, bringup
 from rrbot_workshop.course.grading import graded
-from rrbot_workshop.course.lint import lint_controllers
 from rrbot_workshop.description import descriptions_root, parse_ros2_control, process_xacro
 from rrbot_workshop.msgs import Float64MultiArray, JointTrajectory, JointTrajectoryPoint
+from rrbot_workshop.tools.lint import lint_controllers
 
 TASK = 11
 DESCRIPTION = "multi_rrbot_description/urdf/multi_rrbot.urdf.xacro"

@@ -8,8 +8,8 @@ from pathlib import Path
 
 import pytest
 
-from rrbot_workshop.course.class_report import WORKSPACE_NAME, build_report, find_workspaces, write_report
-from rrbot_workshop.course.cli import main
+from rrbot_workshop.classroom.class_report import WORKSPACE_NAME, build_report, find_workspaces, write_report
+from rrbot_workshop.cli import main
 from rrbot_workshop.exceptions import CourseError
 
 T0 = 1_800_000_000.0
@@ -111,7 +111,7 @@ def test_the_command_prints_where_the_room_is_stuck(room: Path, tmp_path: Path, 
 
 
 def test_hub_homes_needs_a_template_with_the_user_and_an_answering_hub() -> None:
-    from rrbot_workshop.course.class_report import hub_homes
+    from rrbot_workshop.classroom.class_report import hub_homes
 
     with pytest.raises(CourseError, match="must contain"):
         hub_homes("http://127.0.0.1:9", "t", "/home/nobody")

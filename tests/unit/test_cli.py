@@ -13,8 +13,8 @@ from pathlib import Path
 
 import pytest
 
+from rrbot_workshop.cli import main
 from rrbot_workshop.course import tracks
-from rrbot_workshop.course.cli import main
 from rrbot_workshop.course.grading import export_student_copy, reset_exercise
 from rrbot_workshop.exceptions import CourseError
 
@@ -273,15 +273,15 @@ def test_student_copy_of_the_real_course_still_grades(tmp_path: Path) -> None:
     """Export this repository, then grade task 1 inside the copy, on the exercises track, with the copy's code."""
     target = tmp_path / "student"
     env = {k: v for k, v in os.environ.items() if not k.startswith("RRBOT_WORKSHOP_")}
-    subprocess.run([sys.executable, "-m", "rrbot_workshop.course.cli", "export", "--student", str(target)],
+    subprocess.run([sys.executable, "-m", "rrbot_workshop.cli", "export", "--student", str(target)],
                    cwd=REPO, env=env, check=True, capture_output=True)
-    assert not (target / "solutions").exists() and (target / "rrbot_workshop" / "course" / "cli.py").is_file()
-    result = subprocess.run([sys.executable, "-m", "rrbot_workshop.course.cli", "grade", "1", "--json"],
+    assert not (target / "solutions").exists() and (target / "rrbot_workshop" / "cli.py").is_file()
+    result = subprocess.run([sys.executable, "-m", "rrbot_workshop.cli", "grade", "1", "--json"],
                             cwd=target, env=env, capture_output=True, text=True, check=False)
     assert result.returncode == 0, result.stderr
     data = json.loads(result.stdout)
     assert data["task"] == 1 and 0 < data["max_score"] and data["score"] < data["max_score"]
-    missing = subprocess.run([sys.executable, "-m", "rrbot_workshop.course.cli", "grade", "1", "--track", "solutions"],
+    missing = subprocess.run([sys.executable, "-m", "rrbot_workshop.cli", "grade", "1", "--track", "solutions"],
                              cwd=target, env=env, capture_output=True, text=True, check=False)
     assert missing.returncode == 2 and "no 'solutions/' folder" in missing.stderr
 

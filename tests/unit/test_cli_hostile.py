@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 
-from rrbot_workshop.course import cli
+from rrbot_workshop import cli
 
 
 def _run(argv: list[str], capsys: pytest.CaptureFixture[str]) -> tuple[int, str, str]:

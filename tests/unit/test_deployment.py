@@ -103,7 +103,7 @@ def test_z2jh_values_use_only_the_charts_keys_with_the_charts_types() -> None:
     for name, config in values["hub"]["config"].items():
         assert re.match(r"^[A-Z]", name) and isinstance(config, dict), f"hub.config.{name}: a class name and an object"
     assert values["singleuser"]["cmd"] == ["rrbot-workshop", "singleuser"]
-    assert PYPROJECT["project"]["scripts"]["rrbot-workshop"] == "rrbot_workshop.course.cli:main"
+    assert PYPROJECT["project"]["scripts"]["rrbot-workshop"] == "rrbot_workshop.cli:main"
     assert values["cull"]["enabled"] is True and values["singleuser"]["defaultUrl"].endswith("my_notebooks/00_intro.ipynb")
 
 

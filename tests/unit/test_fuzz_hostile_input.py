@@ -16,12 +16,12 @@ from hypothesis import strategies as st
 
 from rrbot_workshop.control_toolbox.pid import Pid
 from rrbot_workshop.course import cli
-from rrbot_workshop.course.lint import lint_controllers
 from rrbot_workshop.exceptions import RRBotWorkshopError
 from rrbot_workshop.middleware.names import node_name_problem
 from rrbot_workshop.middleware.params import load_controllers_yaml
 from rrbot_workshop.middleware.topics import TopicBus
 from rrbot_workshop.msgs import Float64MultiArray, JointState, JointTrajectory, JointTrajectoryPoint
+from rrbot_workshop.tools.lint import lint_controllers
 
 FUZZ = settings(derandomize=True, max_examples=40, deadline=None, database=None,
                 suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow])

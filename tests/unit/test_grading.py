@@ -369,7 +369,7 @@ def test_files_version_follows_contents_and_names_not_caches(tmp_path: Path) -> 
 
 
 def test_progress_does_not_count_as_an_attempt_and_reports_the_log(course: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    from rrbot_workshop.course.cli import main
+    from rrbot_workshop.cli import main
     from rrbot_workshop.course.grading import attempts
 
     (course / "tests" / "tasks" / "test_task05_fake.py").write_text(_GRADER_GRADUATED.replace("assert False", "assert True"))

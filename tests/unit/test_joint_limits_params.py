@@ -366,7 +366,7 @@ controller_manager:
 
 
 def test_lint_notes_the_managers_joint_limits_and_finds_their_mistakes(tmp_path: Path) -> None:
-    from rrbot_workshop.course.lint import lint_controllers
+    from rrbot_workshop.tools.lint import lint_controllers
 
     path = tmp_path / "controllers.yaml"
     path.write_text(_LINT_YAML)

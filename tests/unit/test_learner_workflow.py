@@ -119,7 +119,7 @@ def test_start_command_serves_the_exercises_and_the_learners_notebooks(clone: Pa
 
 def test_notebook_copies_are_refreshed_with_a_backup(tmp_path: Path) -> None:
     sys.path.insert(0, str(ROOT))
-    from rrbot_workshop.course.launcher import refresh_notebook_copies
+    from rrbot_workshop.classroom.launcher import refresh_notebook_copies
 
     (tmp_path / "notebooks").mkdir()
     course = tmp_path / "notebooks" / "01_x.ipynb"
@@ -144,7 +144,7 @@ def test_solved_exercises_and_saved_notebooks_keep_the_tests_green(clone: Path) 
     for task in ("task01_description", "task02_mock_hardware"):
         shutil.copytree(clone / "solutions" / task, clone / "exercises" / task, dirs_exist_ok=True)
     sys.path.insert(0, str(ROOT))
-    from rrbot_workshop.course.launcher import refresh_notebook_copies
+    from rrbot_workshop.classroom.launcher import refresh_notebook_copies
 
     refresh_notebook_copies(clone)
     python = str(ROOT / ".venv" / "bin" / "python")
@@ -177,7 +177,7 @@ def test_student_copy_from_a_solved_tree_has_the_pristine_exercises(clone: Path,
     target = tmp_path / "student"
     env = _env()
     assert not target.exists()
-    result = subprocess.run([sys.executable, "-m", "rrbot_workshop.course.cli", "export", "--student", str(target)],
+    result = subprocess.run([sys.executable, "-m", "rrbot_workshop.cli", "export", "--student", str(target)],
                             cwd=clone, env=env, capture_output=True, text=True)
     assert result.returncode == 0, result.stderr
     assert "Not in the copy: uncommitted changes" in result.stdout
@@ -192,7 +192,7 @@ def test_student_copy_from_a_solved_tree_has_the_pristine_exercises(clone: Path,
     log = subprocess.run(["git", "log", "--oneline"], cwd=target, env=env, capture_output=True, text=True, check=True)
     assert len(log.stdout.splitlines()) == 1, "the student copy is a repository with one commit"
     assert "solutions track" not in (target / "README.md").read_text()
-    graded = subprocess.run([sys.executable, "-m", "rrbot_workshop.course.cli", "grade", "1", "--json"],
+    graded = subprocess.run([sys.executable, "-m", "rrbot_workshop.cli", "grade", "1", "--json"],
                             cwd=target, env=env, capture_output=True, text=True)
     data = json.loads(graded.stdout)
     assert data["score"] < data["max_score"], "the untouched exercise of the copy got full marks"

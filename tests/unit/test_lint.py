@@ -6,7 +6,7 @@ from pathlib import Path
 
 import pytest
 
-from rrbot_workshop.course.lint import Finding, format_findings, lint_controllers, lint_description
+from rrbot_workshop.tools.lint import Finding, format_findings, lint_controllers, lint_description
 
 REPO = Path(__file__).resolve().parents[2]
 RRBOT = REPO / "descriptions" / "rrbot" / "urdf" / "rrbot.urdf.xacro"
@@ -135,7 +135,7 @@ def test_broken_description_is_reported_with_its_file(tmp_path: Path) -> None:
 def test_a_packages_own_cpp_controller_is_a_note_and_an_undeclared_type_an_error(tmp_path: Path) -> None:
     """A demo's own controller (declared in its package's plugin description file) loads in Jazzy: lint says the
     library cannot run it, as a note. The same type without the declaration stays an unknown type (an error)."""
-    from rrbot_workshop.course.lint import lint_controllers
+    from rrbot_workshop.tools.lint import lint_controllers
 
     pkg = tmp_path / "arm_demo"
     (pkg / "bringup" / "config").mkdir(parents=True)

@@ -17,10 +17,10 @@ from typing import Any
 import pytest
 import yaml
 
-from rrbot_workshop.course.cli import main
-from rrbot_workshop.course.lint import Finding, lint_controllers, lint_description
-from rrbot_workshop.course.lint_layout import key_matches, read_layout, read_sections, substitute
+from rrbot_workshop.cli import main
 from rrbot_workshop.middleware import plugins
+from rrbot_workshop.tools.lint import Finding, lint_controllers, lint_description
+from rrbot_workshop.tools.lint.layout import key_matches, read_layout, read_sections, substitute
 
 CORPUS = Path(__file__).resolve().parents[1] / "lint_corpus"
 MANIFEST = yaml.safe_load((CORPUS / "manifest.yaml").read_text())

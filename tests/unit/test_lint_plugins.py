@@ -9,9 +9,9 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from rrbot_workshop.course.cli import main
-from rrbot_workshop.course.lint import lint_controllers, lint_description
+from rrbot_workshop.cli import main
 from rrbot_workshop.description import parse_ros2_control
+from rrbot_workshop.tools.lint import lint_controllers, lint_description
 
 _URDF = """\
 <?xml version="1.0"?>

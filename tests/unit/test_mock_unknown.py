@@ -15,7 +15,7 @@ import pytest
 
 import rrbot_workshop as rw
 from rrbot_workshop.bringup import System, systems
-from rrbot_workshop.course.cli import main
+from rrbot_workshop.cli import main
 from rrbot_workshop.description import packages
 from rrbot_workshop.exceptions import HardwareError
 from rrbot_workshop.hardware.mock_substitutes import MockActuator, MockSensor

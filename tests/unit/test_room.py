@@ -14,9 +14,9 @@ from pathlib import Path
 
 import pytest
 
-from rrbot_workshop.course.class_report import build_report, write_report
-from rrbot_workshop.course.cli import main
-from rrbot_workshop.course.room import LearnerRun, Room
+from rrbot_workshop.classroom.class_report import build_report, write_report
+from rrbot_workshop.classroom.room import LearnerRun, Room
+from rrbot_workshop.cli import main
 
 ROOT = Path(__file__).resolve().parents[2]
 SOLUTION = ROOT / "solutions" / "task02_mock_hardware"

@@ -153,7 +153,7 @@ EXPECTED = {
 
 
 def test_lint_reports_nothing_false_on_the_demos_yaml() -> None:
-    from rrbot_workshop.course.lint import lint_controllers
+    from rrbot_workshop.tools.lint import lint_controllers
 
     for yaml_file in sorted(D.glob("example_*/bringup/config/*.yaml")):
         example = yaml_file.parts[-4]

@@ -11,7 +11,8 @@ from pathlib import Path
 import pytest
 import yaml
 
-from rrbot_workshop.course import cli, tracks
+from rrbot_workshop import cli
+from rrbot_workshop.course import tracks
 from rrbot_workshop.course.ros2_export import export_problems, export_ros2, export_sources, launch_argument_problem
 from rrbot_workshop.exceptions import CourseError
 

@@ -11,9 +11,11 @@ from pathlib import Path
 
 import pytest
 
-from rrbot_workshop.course import cli, tracks
-from rrbot_workshop.course.ros2_export import _launch_file, export_ros2
+from rrbot_workshop import cli
+from rrbot_workshop.course import tracks
+from rrbot_workshop.course.ros2_export import export_ros2
 from rrbot_workshop.exceptions import CourseError
+from rrbot_workshop.tools.ros2_package import launch_file as _launch_file
 
 INJECTIONS = [
     'a" + str(__import__("os").system("echo pwned")) + "b',

@@ -13,10 +13,10 @@ from core_helpers import load_configure, make_cm
 
 import rrbot_workshop as rw
 from rrbot_workshop.controller_manager.activity import ACTIVITY_TOPIC
-from rrbot_workshop.course.lint import lint_controllers
-from rrbot_workshop.course.lint_parameters import closest
 from rrbot_workshop.middleware.lifecycle import State
 from rrbot_workshop.middleware.params import ParameterSchema
+from rrbot_workshop.tools.lint import lint_controllers
+from rrbot_workshop.tools.lint.parameters import closest
 
 CHAIN = "test_controller/TestChainableController"
 FORWARD = "forward_command_controller/ForwardCommandController"

@@ -12,9 +12,9 @@ import pytest
 
 import rrbot_workshop as rw
 from rrbot_workshop.course.magics import topic
-from rrbot_workshop.course.message_yaml import message_from_dict
 from rrbot_workshop.exceptions import MessageError
 from rrbot_workshop.msgs import Header, JointTrajectory, TwistStamped
+from rrbot_workshop.tools.message_yaml import message_from_dict
 
 
 @pytest.fixture

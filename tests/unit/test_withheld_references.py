@@ -37,7 +37,7 @@ _USES = {
 @pytest.fixture(scope="module")
 def withheld_copy(tmp_path_factory: pytest.TempPathFactory) -> Path:
     target = tmp_path_factory.mktemp("withheld") / "student"
-    result = subprocess.run([sys.executable, "-m", "rrbot_workshop.course.cli", "export", "--student", str(target),
+    result = subprocess.run([sys.executable, "-m", "rrbot_workshop.cli", "export", "--student", str(target),
                              "--withhold-references"], cwd=REPO, env=_ENV, capture_output=True, text=True, check=False)
     assert result.returncode == 0, result.stderr
     return target

@@ -16,11 +16,11 @@ import pytest
 import rrbot_workshop as rw
 from rrbot_workshop.bringup import systems
 from rrbot_workshop.course import tracks
-from rrbot_workshop.course.lint import lint_controllers
 from rrbot_workshop.description import descriptions_root
 from rrbot_workshop.exceptions import ControllerError, HardwareError, PluginNotFound, UnfinishedExercise
 from rrbot_workshop.middleware import plugins
 from rrbot_workshop.msgs import Float64MultiArray
+from rrbot_workshop.tools.lint import lint_controllers
 
 DRIVER = "controlko_hardware_interface/RRBotHardwareInterface"
 CONTROLLER = "displacement_controller/DisplacementController"

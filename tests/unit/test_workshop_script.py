@@ -65,7 +65,7 @@ def test_start_command_serves_jupyterlab_on_loopback_only() -> None:
 
 
 def test_solutions_are_hidden_from_the_learners_file_browser_unless_an_instructor_shows_them() -> None:
-    from rrbot_workshop.course.launcher import jupyterlab_command
+    from rrbot_workshop.classroom.launcher import jupyterlab_command
 
     learner = next(a for a in jupyterlab_command(Path("python"), ROOT) if a.startswith("--ContentsManager.hide_globs="))
     instructor = next(a for a in jupyterlab_command(Path("python"), ROOT, show_solutions=True)
@@ -75,7 +75,7 @@ def test_solutions_are_hidden_from_the_learners_file_browser_unless_an_instructo
 
 
 def test_help_exits_0_and_an_unknown_command_exits_2(capsys: pytest.CaptureFixture[str]) -> None:
-    from rrbot_workshop.course.launcher import main
+    from rrbot_workshop.classroom.launcher import main
 
     assert main(["--help"], root=ROOT) == 0 and "usage:" in capsys.readouterr().out
     assert main(["frobnicate"], root=ROOT) == 2 and "usage:" in capsys.readouterr().err

@@ -7,11 +7,11 @@ from pathlib import Path
 
 import pytest
 
+from rrbot_workshop.classroom.workspace import MARKER, init_workspace, singleuser_command
 from rrbot_workshop.course import tracks
 from rrbot_workshop.course.grading import check
 from rrbot_workshop.course.grading.attempts import log_path
 from rrbot_workshop.course.grading.course import reset_exercise
-from rrbot_workshop.course.workspace import MARKER, init_workspace, singleuser_command
 from rrbot_workshop.exceptions import CourseError
 
 _GRADER = '''

@@ -136,7 +136,7 @@ def _installed_course(workspace: Path) -> Path:
     override = os.environ.get(tracks.ROOT_ENV)
     if override:
         return Path(override).expanduser().resolve()
-    return Path(__file__).resolve().parents[2]  # course/ -> rrbot_workshop/ -> the installed clone
+    return Path(__file__).resolve().parents[2]  # classroom/ -> rrbot_workshop/ -> the installed clone
 
 
 def init_workspace(target: str | os.PathLike[str] | None = None, source: str | os.PathLike[str] | None = None,
@@ -181,7 +181,7 @@ def init_workspace(target: str | os.PathLike[str] | None = None, source: str | o
 
 def _fill(src: Path, workspace: Path, result: InitResult, now: float | None) -> None:
     """Copy and update the workspace's files (see :func:`init_workspace`)."""
-    from rrbot_workshop.course.launcher import refresh_notebook_copies
+    from rrbot_workshop.classroom.launcher import refresh_notebook_copies
 
     workspace.mkdir(parents=True, exist_ok=True)
     _copy_course_files(src, workspace)
@@ -217,7 +217,7 @@ def _fill(src: Path, workspace: Path, result: InitResult, now: float | None) -> 
 def singleuser_command(workspace: Path, args: list[str]) -> list[str]:
     """The JupyterHub single-user server for a learner: JupyterLab at their workspace, opening their intro, with the
     same hidden folders as on a laptop (``args`` are the spawner's)."""
-    from rrbot_workshop.course.launcher import HIDDEN
+    from rrbot_workshop.classroom.launcher import HIDDEN
 
     return ["jupyterhub-singleuser", f"--ServerApp.root_dir={workspace}",
             "--ServerApp.default_url=/lab/tree/my_notebooks/00_intro.ipynb",

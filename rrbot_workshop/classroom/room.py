@@ -101,7 +101,7 @@ c.Authenticator.allow_all = True
 c.JupyterHub.spawner_class = "simple"
 c.SimpleLocalProcessSpawner.home_dir_template = {str(self.homes) + '/{username}'!r}
 c.Spawner.ip = "127.0.0.1"
-c.Spawner.cmd = [{self.python!r}, "-m", "rrbot_workshop.course.cli", "singleuser"]
+c.Spawner.cmd = [{self.python!r}, "-m", "rrbot_workshop.cli", "singleuser"]
 c.Spawner.environment = {{"PATH": {str(bin_dir) + os.pathsep + '/usr/bin:/bin'!r},
                           "RRBOT_WORKSHOP_ROOT": "", "MPLBACKEND": "Agg"}}
 c.Spawner.args = {["--allow-root"] if hasattr(os, "geteuid") and os.geteuid() == 0 else []!r}

@@ -274,7 +274,7 @@ def tool(root: Path, args: Sequence[str]) -> int:
     my_ws/src/robot/config/x.yaml``, ``--package-path ../ws``) means what it means in the caller's shell.
     """
     python = setup(root)
-    return subprocess.call([str(python), "-m", "rrbot_workshop.course.cli", "--course", str(root), *args])
+    return subprocess.call([str(python), "-m", "rrbot_workshop.cli", "--course", str(root), *args])
 
 
 def main(argv: Sequence[str] | None = None, root: Path | None = None) -> int:

@@ -8,16 +8,16 @@ all at once instead of one at a time at bringup:
   reported once;
 * the file parses and has the ``<node>: ros__parameters:`` layout; node keys apply to nodes as rclcpp matches them
   (``/rrbot_1/controller_manager``, ``/**/controller_manager``, ``/**``), so each controller manager of the file is
-  checked with its own controllers (:mod:`rrbot_workshop.course.lint_layout`);
+  checked with its own controllers (:mod:`rrbot_workshop.tools.lint.layout`);
 * ``controller_manager`` parameters are known to Jazzy, with their types (unknown names get the closest valid one);
 * each controller has a known ``type``, given in the manager's ``<name>.type`` or in the controller's own section
   (the spawner reads it there); a type that resolves to a learner's unfinished exercise says so;
 * each controller's parameters: unknown or misspelt names, wrong types, missing required values, failed
   validations (as generate_parameter_library checks them), the parameters every controller has, deprecated ones
-  as notes (:mod:`rrbot_workshop.course.lint_parameters`);
+  as notes (:mod:`rrbot_workshop.tools.lint.parameters`);
 * with a description: every interface a controller claims or reads exists in the ``<ros2_control>`` tags or is
   exported by a chainable controller of the same manager (reference and state interfaces), and the description's
-  ``<hardware>`` blocks are sound (:mod:`rrbot_workshop.course.lint_urdf`).
+  ``<hardware>`` blocks are sound (:mod:`rrbot_workshop.tools.lint.urdf`).
 
 :func:`lint_controllers` returns :class:`Finding` records; the CLI prints them as ``FILE:LINE: level: message``.
 """
@@ -34,7 +34,11 @@ from typing import Any
 
 import yaml
 
-from rrbot_workshop.course.lint_classes import (
+from rrbot_workshop.exceptions import PluginNotFound, RRBotWorkshopError
+from rrbot_workshop.middleware import plugins
+from rrbot_workshop.middleware.params import ParameterSchema, flatten
+from rrbot_workshop.middleware.text_files import MAX_DEPTH, SAFE_LOADER, nesting_depth, paused_gc, read_text
+from rrbot_workshop.tools.lint.classes import (
     Interfaces,
     captured,
     controller_interfaces,
@@ -44,7 +48,7 @@ from rrbot_workshop.course.lint_classes import (
     reason,
     unfinished_exercise,
 )
-from rrbot_workshop.course.lint_layout import (
+from rrbot_workshop.tools.lint.layout import (
     MANAGER_ENTRY_KEYS,
     Controller,
     KeyLines,
@@ -55,18 +59,14 @@ from rrbot_workshop.course.lint_layout import (
     substitute,
     unresolved,
 )
-from rrbot_workshop.course.lint_parameters import (
+from rrbot_workshop.tools.lint.parameters import (
     CONTROLLER_MANAGER_PARAMETERS,
     check_parameters,
     closest,
     manager_findings,
     rate_findings,
 )
-from rrbot_workshop.course.lint_urdf import parse_description
-from rrbot_workshop.exceptions import PluginNotFound, RRBotWorkshopError
-from rrbot_workshop.middleware import plugins
-from rrbot_workshop.middleware.params import ParameterSchema, flatten
-from rrbot_workshop.middleware.text_files import MAX_DEPTH, SAFE_LOADER, nesting_depth, paused_gc, read_text
+from rrbot_workshop.tools.lint.urdf import parse_description
 
 
 def external_plugin(ctype: str, source: str) -> str | None:

@@ -9,7 +9,7 @@
 * keys removed between Humble and Jazzy (ignored there: warnings) and keys Jazzy still declares but calls
   deprecated (notes).
 
-Both checks report through ``report(level, where, message)``; :mod:`rrbot_workshop.course.lint` turns that into
+Both checks report through ``report(level, where, message)``; :mod:`rrbot_workshop.tools.lint` turns that into
 findings with file lines.
 """
 

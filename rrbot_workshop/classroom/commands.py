@@ -1,0 +1,84 @@
+"""The classroom's commands of ``rrbot-workshop``: init, singleuser and class-report.
+
+:func:`add_commands` adds them to the tool's parser (see :mod:`rrbot_workshop.cli`) and returns their handlers.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+from rrbot_workshop.exceptions import CourseError
+
+__all__ = ["add_commands"]
+
+
+def add_commands(sub: Any) -> dict[str, Callable[[argparse.Namespace], int]]:
+    """Add init, singleuser and class-report to ``sub`` (argparse's sub-parsers); return their handlers."""
+    init = sub.add_parser("init", help="make (or update) a learner's workspace from the course installed for a room")
+    init.add_argument("workspace", nargs="?", metavar="DIR", help="the workspace (default ~/rrbot_workshop)")
+    init.add_argument("--from", dest="source", metavar="COURSE",
+                      help="the installed course folder (default: the one this library belongs to)")
+    single = sub.add_parser("singleuser", help="JupyterHub's single-user server for a learner: init ~/rrbot_workshop, "
+                                               "then start jupyterhub-singleuser there (set it as the spawner's cmd)")
+    single.add_argument("args", nargs=argparse.REMAINDER, help="passed on to jupyterhub-singleuser")
+
+    room = sub.add_parser("class-report", help="the instructor's view of a room: every learner's progress from their "
+                                              "attempt logs, as JSON, CSV and HTML")
+    room.add_argument("workspaces", nargs="*", metavar="WORKSPACE",
+                      help="learners' course folders or homes, or globs of them ('/home/*')")
+    room.add_argument("--hub", metavar="URL", help="take the learners from this JupyterHub's user list (an API token "
+                                                   "allowed to list users in $JUPYTERHUB_API_TOKEN)")
+    room.add_argument("--home-template", metavar="PATH", default="/home/jupyter-{username}",
+                      help="with --hub: a learner's home (default TLJH's '/home/jupyter-{username}')")
+    room.add_argument("--out", metavar="DIR", required=True, help="folder for report.json, report.csv, report.html")
+    return {"init": _cmd_init, "singleuser": _cmd_singleuser, "class-report": _cmd_class_report}
+
+
+def _cmd_init(args: argparse.Namespace) -> int:
+    from rrbot_workshop.classroom.workspace import init_workspace
+
+    result = init_workspace(args.workspace, args.source)
+    what = "made" if result.created else "updated"
+    print(f"Workspace {what}: {result.workspace} ({len(result.added)} exercise file(s) added, "
+          f"{len(result.updated)} updated)")
+    for rel in result.kept:
+        print(f"  {rel}: you changed it and so did the course; yours is kept, the course's is beside it as "
+              f"{Path(rel).name}.course-update")
+    for line in result.notebooks:
+        print(f"  {line}")
+    if result.created:
+        print(f"Work in {result.workspace}: open my_notebooks/00_intro.ipynb; in a terminal, cd there first.")
+    return 0
+
+
+def _cmd_singleuser(args: argparse.Namespace) -> int:
+    from rrbot_workshop.classroom.workspace import init_workspace, singleuser_command
+
+    result = init_workspace()
+    command = singleuser_command(result.workspace, list(args.args))
+    os.execvp(command[0], command)  # the server takes this process's place: the spawner's signals reach it
+    return 0  # pragma: no cover - execvp does not return
+
+
+def _cmd_class_report(args: argparse.Namespace) -> int:
+    from rrbot_workshop.classroom.class_report import build_report, hub_homes, write_report
+
+    patterns = list(args.workspaces)
+    if args.hub:
+        patterns += hub_homes(args.hub, os.environ.get("JUPYTERHUB_API_TOKEN", ""), args.home_template)
+    if not patterns:
+        raise CourseError("class-report", "", "name the learners' workspaces ('/home/*') or a hub (--hub URL)")
+    report = build_report(patterns, missing_ok=bool(args.hub))
+    paths = write_report(report, Path(args.out))
+    stuck = report.stuck()
+    print(f"{len(report.learners)} learner(s); wrote {', '.join(str(p) for p in paths)}")
+    if stuck:
+        top = stuck[0]
+        print(f"Most learners stuck on: task {top['task']} {top['check']} ({top['learners_failing']} learner(s))")
+    for note in report.notes:
+        print(f"note: {note}")
+    return 0

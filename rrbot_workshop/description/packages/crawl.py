@@ -1,0 +1,365 @@
+"""The package path, crawled as colcon crawls a workspace: packages found by the ``<name>`` of their ``package.xml``.
+
+See :mod:`rrbot_workshop.description.packages` for the order of the path and how packages are found.
+"""
+
+from __future__ import annotations
+
+import contextvars
+import logging
+import os
+import xml.etree.ElementTree as ET
+from collections.abc import Iterable, Iterator
+from contextlib import contextmanager
+from dataclasses import dataclass, field
+from pathlib import Path, PurePosixPath
+
+from rrbot_workshop.description.packages.install_rules import InstallRule, parse_install_rules
+from rrbot_workshop.exceptions import DescriptionError
+
+__all__ = [
+    "PACKAGE_PATH_ENV",
+    "DESCRIPTIONS_ENV",
+    "IGNORE_MARKERS",
+    "Package",
+    "PackageIndex",
+    "descriptions_root",
+    "package_path",
+    "package_index",
+    "find_package",
+    "known_package",
+    "use_package_path",
+    "clear_cache",
+]
+
+_log = logging.getLogger("rrbot_workshop.description.packages")
+
+#: Environment variable with extra package path folders, ``os.pathsep``-separated (as ``ROS_PACKAGE_PATH``).
+PACKAGE_PATH_ENV = "RRBOT_WORKSHOP_PACKAGE_PATH"
+#: Marker files that make colcon/ament/catkin skip a folder and everything below it.
+IGNORE_MARKERS = ("COLCON_IGNORE", "AMENT_IGNORE", "CATKIN_IGNORE")
+#: Deepest folder level crawled below a path entry (a workspace's packages sit a few levels deep).
+MAX_DEPTH = 12
+
+
+@dataclass(frozen=True)
+class Package:
+    """A package found on the package path.
+
+    Attributes:
+        name: The ``<name>`` of its ``package.xml`` (the folder name under ``descriptions/``).
+        path: Its folder: the source folder with ``package.xml``, or the installed ``share/<name>`` folder.
+        layout: ``"source"``, ``"installed"`` or ``"descriptions"`` (a folder of the course's ``descriptions/``).
+        entry: The package path folder it was found below.
+        manifest: Its ``package.xml`` (None for a ``descriptions/`` folder without one).
+        rules: Install rules of a source tree (see :class:`InstallRule`), in the order CMake runs them.
+        rules_complete: False when some ``install()`` could not be followed; the source folder is then also searched.
+    """
+
+    name: str
+    path: Path
+    layout: str
+    entry: Path
+    manifest: Path | None = None
+    rules: tuple[InstallRule, ...] = ()
+    rules_complete: bool = True
+
+    @property
+    def maps_through_rules(self) -> bool:
+        """True when share-relative paths map through install rules (a source tree with share rules)."""
+        return self.layout == "source" and bool(self.rules)
+
+    def candidates(self, relative: str | PurePosixPath) -> list[Path]:
+        """Every file that ``share/<name>/<relative>`` may be, in the order they are tried.
+
+        For a source tree with install rules, the later rule first (CMake installs in order, so a later rule
+        overwrites an earlier one), then ``package.xml`` (ament always installs it), then, only when some rule
+        could not be read, the same path in the source folder. Otherwise the path in the package's folder.
+        """
+        rel = PurePosixPath(str(relative).replace("\\", "/").lstrip("/"))
+        if not self.maps_through_rules:
+            return [self.path / rel]
+        found: list[Path] = []
+        for rule in reversed(self.rules):
+            source = rule.source_for(rel)
+            if source is not None and source not in found:
+                found.append(source)
+        if rel == PurePosixPath("package.xml") and self.manifest is not None:
+            found.append(self.manifest)
+        if not self.rules_complete and self.path / rel not in found:
+            found.append(self.path / rel)
+        return found
+
+    def find(self, relative: str | PurePosixPath) -> Path | None:
+        """The first of :meth:`candidates` that exists, or None."""
+        for candidate in self.candidates(relative):
+            if candidate.exists():
+                return candidate
+        return None
+
+    def describe(self) -> str:
+        """``name (source tree /path)`` as messages show it."""
+        kind = {"source": "source tree", "installed": "installed", "descriptions": "course description"}[self.layout]
+        return f"{self.name} ({kind} {self.path})"
+
+
+@dataclass
+class PackageIndex:
+    """The packages below a package path, found once (see :func:`package_index`).
+
+    Attributes:
+        entries: The package path folders, in order.
+        packages: Name -> the package that wins (first on the path).
+        shadowed: Name -> packages of the same name that lost to the first.
+        broken: ``package.xml`` files that could not be read -> why.
+    """
+
+    entries: tuple[Path, ...]
+    packages: dict[str, Package] = field(default_factory=dict)
+    shadowed: dict[str, list[Package]] = field(default_factory=dict)
+    broken: dict[Path, str] = field(default_factory=dict)
+
+    def names(self) -> list[str]:
+        """The package names, sorted."""
+        return sorted(self.packages)
+
+    def get(self, name: str) -> Package:
+        """The package called ``name``.
+
+        Raises:
+            DescriptionError: If there is none: the message lists the known packages, the folders searched and
+                the ``package.xml`` files that could not be read.
+        """
+        try:
+            return self.packages[name]
+        except KeyError:
+            pass
+        searched = ", ".join(str(e) for e in self.entries) or "none"
+        known = ", ".join(self.names()) or "none"
+        broken = ""
+        if self.broken:
+            broken = "; these package.xml files could not be read: " + "; ".join(
+                f"{p}: {why}" for p, why in sorted(self.broken.items()))
+        raise DescriptionError(
+            f"unknown package '{name}' (valid: {known}); package path searched: {searched}{broken}; add the folder "
+            f"that holds it with package_path=[...], --package-path DIR or {PACKAGE_PATH_ENV}",
+            element="package", attribute=name,
+        )
+
+
+def _read_manifest(manifest: Path) -> str:
+    """The ``<name>`` of a ``package.xml``.
+
+    Raises:
+        DescriptionError: If the file is not well-formed XML, its root is not ``<package>``, or it has no name.
+    """
+    try:
+        root = ET.parse(manifest).getroot()
+    except ET.ParseError as exc:
+        line, column = exc.position
+        reason = str(exc).split(":")[0]
+        raise DescriptionError(f"malformed package.xml at line {line}, column {column + 1}: {reason}",
+                               source=str(manifest)) from None
+    except OSError as exc:
+        raise DescriptionError(f"cannot read package.xml: {exc.strerror}", source=str(manifest)) from None
+    if root.tag != "package":
+        raise DescriptionError(f"package.xml's root element is <{root.tag}>, not <package>", source=str(manifest))
+    name = (root.findtext("name") or "").strip()
+    if not name:
+        raise DescriptionError("package.xml has no <name> (it names the package: <name>my_robot</name>)",
+                               source=str(manifest))
+    return name
+
+
+def _check_entry(entry: Path) -> None:
+    home = Path.home().resolve() if "HOME" in os.environ or os.name != "nt" else None
+    if entry == Path(entry.anchor) or (home is not None and entry == home):
+        raise DescriptionError(
+            f"package path folder '{entry}' is the file system root or the home folder; give the folder that holds "
+            "the packages (a workspace's src/, a clone, or an install prefix) instead", element="package_path")
+
+
+def _crawl(entry: Path, index: PackageIndex, descriptions: bool) -> None:
+    """Add the packages below one path entry to ``index`` (first found wins)."""
+    found: list[Package] = []
+    share = entry / "share"
+    prefix_packages = sorted(share.glob("*/package.xml")) if share.is_dir() else []
+    if (entry / "package.xml").is_file():
+        manifests = [entry / "package.xml"]
+    elif prefix_packages:  # an install prefix: its share/* only
+        manifests = prefix_packages
+    else:
+        manifests = []
+        seen: set[str] = set()
+        for walked, dirs, files in os.walk(entry, followlinks=True):
+            here = Path(walked)
+            real = os.path.realpath(walked)
+            depth = len(here.relative_to(entry).parts)
+            if real in seen or depth > MAX_DEPTH:
+                dirs[:] = []
+                continue
+            seen.add(real)
+            if here != entry and any(m in files for m in IGNORE_MARKERS):
+                dirs[:] = []
+                continue
+            if "package.xml" in files and here != entry:
+                manifests.append(here / "package.xml")
+                dirs[:] = []
+                continue
+            dirs[:] = sorted(d for d in dirs if not d.startswith((".", "__")))
+    for manifest in manifests:
+        try:
+            name = _read_manifest(manifest)
+        except DescriptionError as exc:
+            index.broken[manifest] = str(exc).split(": ", 1)[-1]
+            _log.warning("%s", exc)
+            continue
+        folder = manifest.parent
+        installed = folder.parent.name == "share" and folder.name == name
+        rules: list[InstallRule] = []
+        complete = True
+        if not installed and (folder / "CMakeLists.txt").is_file():
+            rules, complete = parse_install_rules(folder / "CMakeLists.txt", name)
+        found.append(Package(name, folder, "installed" if installed else "source", entry, manifest, tuple(rules),
+                             complete))
+    if descriptions and entry.is_dir():
+        taken = {p.path for p in found}
+        for sub in sorted(entry.iterdir()):
+            if sub.is_dir() and not sub.name.startswith((".", "_")) and sub not in taken:
+                found.append(Package(sub.name, sub, "descriptions", entry))
+    for package in found:
+        first = index.packages.get(package.name)
+        if first is None:
+            index.packages[package.name] = package
+            continue
+        index.shadowed.setdefault(package.name, []).append(package)
+        _log.warning("package '%s' is found twice: using %s, ignoring %s (the first on the package path wins, "
+                     "as in ROS)", package.name, first.path, package.path)
+
+
+_EXTRA: contextvars.ContextVar[tuple[Path, ...]] = contextvars.ContextVar("rrbot_workshop_package_path", default=())
+_CACHE: dict[tuple[Path, ...], PackageIndex] = {}
+#: Every package resolved in this process: the last resort for ``package://`` URIs met after bringup returned.
+_SEEN: dict[str, Package] = {}
+
+
+#: Environment variable that points the package lookup at another ``descriptions/`` folder.
+DESCRIPTIONS_ENV = "RRBOT_WORKSHOP_DESCRIPTIONS"
+
+def descriptions_root() -> Path:
+    """Folder that holds one sub-folder per robot description package (``rrbot/``, ``diffbot/``, ...).
+
+    Returns:
+        ``$RRBOT_WORKSHOP_DESCRIPTIONS`` if set, else ``descriptions/`` at the repository root.
+    """
+    override = os.environ.get(DESCRIPTIONS_ENV)
+    if override:
+        return Path(override).expanduser().resolve()
+    return Path(__file__).resolve().parents[3] / "descriptions"
+
+
+
+def _as_entries(paths: Iterable[str | os.PathLike[str]] | str | os.PathLike[str] | None) -> list[Path]:
+    if paths is None:
+        return []
+    if isinstance(paths, str | os.PathLike):
+        paths = [p for p in str(paths).split(os.pathsep) if p]
+    return [Path(p).expanduser().resolve() for p in paths if str(p).strip()]
+
+
+def package_path(extra: Iterable[str | os.PathLike[str]] | str | os.PathLike[str] | None = None) -> tuple[Path, ...]:
+    """The package path: ``extra``, the folders of :func:`use_package_path`, ``$RRBOT_WORKSHOP_PACKAGE_PATH``, then
+    the course's ``descriptions/``.
+
+    Args:
+        extra: Folders to search first (a list, or one ``os.pathsep``-separated string).
+
+    Returns:
+        The folders, absolute, without repeats, in search order.
+
+    Raises:
+        DescriptionError: If a folder does not exist, or is the file system root or the home folder.
+    """
+    entries: list[Path] = []
+    given = [*_as_entries(extra), *_EXTRA.get()]
+    from_env = _as_entries(os.environ.get(PACKAGE_PATH_ENV, ""))
+    for entry in given:
+        if not entry.is_dir():
+            raise DescriptionError(f"package path folder '{entry}' does not exist", element="package_path")
+    for entry in from_env:
+        if not entry.is_dir():
+            _log.warning("%s names '%s', which does not exist; skipped", PACKAGE_PATH_ENV, entry)
+    for entry in [*given, *(e for e in from_env if e.is_dir())]:
+        _check_entry(entry)
+        if entry not in entries:
+            entries.append(entry)
+    root = descriptions_root()
+    if root not in entries:
+        entries.append(root)
+    return tuple(entries)
+
+
+def package_index(extra: Iterable[str | os.PathLike[str]] | str | os.PathLike[str] | None = None,
+                  refresh: bool = False) -> PackageIndex:
+    """The packages on :func:`package_path` ``(extra)``, crawled once per path (``refresh`` crawls again).
+
+    Raises:
+        DescriptionError: If a path folder is invalid (see :func:`package_path`).
+    """
+    entries = package_path(extra)
+    if not refresh and entries in _CACHE:
+        return _CACHE[entries]
+    index = PackageIndex(entries)
+    descriptions = entries[-1]
+    for entry in entries:
+        _crawl(entry, index, descriptions=entry == descriptions)
+    _CACHE[entries] = index
+    return index
+
+
+def clear_cache() -> None:
+    """Forget every crawled package path (the next lookup crawls again)."""
+    _CACHE.clear()
+
+
+@contextmanager
+def use_package_path(extra: Iterable[str | os.PathLike[str]] | str | os.PathLike[str] | None) -> Iterator[tuple[Path, ...]]:
+    """Within the block, every lookup (xacro's ``$(find)``, ``package://``) searches ``extra`` first.
+
+    Yields:
+        The package path in effect.
+
+    Raises:
+        DescriptionError: If a folder does not exist, or is the file system root or the home folder.
+    """
+    entries = tuple(_as_entries(extra))
+    token = _EXTRA.set(entries + tuple(e for e in _EXTRA.get() if e not in entries))
+    try:
+        yield package_path()
+    finally:
+        _EXTRA.reset(token)
+
+
+def find_package(name: str, extra: Iterable[str | os.PathLike[str]] | str | os.PathLike[str] | None = None) -> Package:
+    """The package called ``name`` on the package path (crawled again once if it is not known yet).
+
+    Raises:
+        DescriptionError: If there is none: the message lists the known packages and the folders searched.
+    """
+    if not name or "/" in name or "\\" in name:
+        raise DescriptionError(f"'{name}' is not a package name", element="package", attribute=name)
+    index = package_index(extra)
+    if name not in index.packages:
+        index = package_index(extra, refresh=True)  # a package added since the last crawl
+    package = index.get(name)
+    _SEEN[name] = package
+    return package
+
+
+def known_package(name: str) -> Package | None:
+    """The package called ``name`` as this process last met it on any package path, or None.
+
+    A viewer showing a robot's meshes after the bringup that found its packages returned uses it.
+    """
+    earlier = [_SEEN.get(name)] + [index.packages.get(name) for index in reversed(list(_CACHE.values()))]
+    return next((p for p in earlier if p is not None), None)
