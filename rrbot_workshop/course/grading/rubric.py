@@ -26,16 +26,21 @@ class CheckSpec:
     Attributes:
         points: Points the check is worth (> 0).
         hint: What to look at when the check fails: the specification, in a sentence or two.
+        given: The handed-out exercise already satisfies it.
+        hints: The graduated hint levels.
+        after: Names of the checks (test functions of the same grader) whose rules this one builds on: when one of
+            them fails too, this check's failure is theirs, and it shows no hint of its own.
     """
 
     points: float
     hint: str
     given: bool = False
     hints: tuple[str, ...] = ()
+    after: tuple[str, ...] = ()
 
 
 def graded(
-    points: float = DEFAULT_POINTS, hint: str | Sequence[str] = "", given: bool = False
+    points: float = DEFAULT_POINTS, hint: str | Sequence[str] = "", given: bool = False, after: Sequence[str] = ()
 ) -> Callable[[_F], _F]:
     """Decorator that makes a grader test a weighted check.
 
@@ -49,6 +54,8 @@ def graded(
             code), shown one at a time, a level deeper each time the learner's check fails again.
         given: The handed-out exercise already satisfies it (e.g. "the file processes"): it is still checked and
             shown, marked GIVEN, but earns no points, so an untouched exercise scores 0.
+        after: Checks (test function names of the same grader) this one builds on: when one of them fails as well,
+            the learner's cause is there, so this check shows no hint of its own and says which check to fix first.
 
     Raises:
         ValueError: If ``points`` is not positive.
@@ -58,7 +65,8 @@ def graded(
 
     def mark(func: _F) -> _F:
         levels = (hint,) if isinstance(hint, str) else tuple(hint)
-        func.__rubric_check__ = CheckSpec(float(points), levels[0] if levels else "", given, levels)  # type: ignore[attr-defined]
+        func.__rubric_check__ = CheckSpec(float(points), levels[0] if levels else "", given, levels,  # type: ignore[attr-defined]
+                                          tuple(after))
         return func
 
     return mark
