@@ -54,12 +54,17 @@ class Variant:
             solution must also lose points overall.
         names_file: A failing check's reason must name this file of the learner's (``"jerk_limited.py"``): the cause
             is in the learner's code and the reason says where.
+        says: Check name -> a phrase its reason must contain: the reason names what is wrong, not a symptom.
+        only: A slip of one rule: no check outside ``fails`` may lose points (the others are judged on their own,
+            with the reference standing in for the broken part or the value taken as given).
     """
 
     name: str
     changes: Mapping[str, Changes] = field(default_factory=dict)
     fails: frozenset[str] | set[str] = frozenset()
     names_file: str = ""
+    says: Mapping[str, str] = field(default_factory=dict)
+    only: bool = False
 
     def __str__(self) -> str:
         return self.name
@@ -136,6 +141,13 @@ def assert_loses_points(rubric: Rubric, variant: Variant) -> None:
         reasons = [c.detail for c in rubric.failed() if c.name in variant.fails]
         assert any(variant.names_file in r for r in reasons), (
             f"{variant.name}: no reason names the learner's {variant.names_file}:\n{report}")
+    details = {c.name: c.detail for c in rubric.failed()}
+    for name, phrase in variant.says.items():
+        assert phrase.lower() in details.get(name, "").lower(), (
+            f"{variant.name}: the reason of {name} does not say {phrase!r}:\n{report}")
+    if variant.only:
+        beyond = sorted(failed - set(variant.fails))
+        assert not beyond, f"{variant.name} is one slip, yet {beyond} lose points too:\n{report}"
 
 
 def assert_full_marks(rubric: Rubric) -> None:
