@@ -36,6 +36,21 @@ def conformance_tally() -> Callable[..., None]:
     return record
 
 
+#: Test files that take the longest, run first so that no worker is left with a long one at the end of a run
+#: spread over the cores (pytest-xdist hands out whole files in collection order).
+_LONG_FIRST = ("notebooks/", "test_grader_task", "test_room", "test_learner_workflow", "test_course_in_browser",
+               "test_graders", "test_ros2_control_demos", "test_grading", "test_withheld_references")
+
+
+def pytest_collection_modifyitems(session: pytest.Session, config: pytest.Config, items: list[pytest.Item]) -> None:
+    """Long files first; the order of the items inside a file (a notebook's cells) is kept."""
+    def rank(item: pytest.Item) -> int:
+        path = item.nodeid.split("::", 1)[0]
+        return next((i for i, part in enumerate(_LONG_FIRST) if part in path), len(_LONG_FIRST))
+
+    items.sort(key=rank)
+
+
 def pytest_sessionfinish(session: pytest.Session, exitstatus: int) -> None:
     """An xdist worker hands its cases to the controller (``workeroutput`` travels back when the worker ends)."""
     workeroutput = getattr(session.config, "workeroutput", None)

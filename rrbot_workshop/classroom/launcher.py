@@ -33,7 +33,7 @@ import zipfile
 from collections.abc import Iterator, Sequence
 from pathlib import Path
 
-__all__ = ["main", "SUPPORTED", "refresh_notebook_copies", "pristine_exercises"]
+__all__ = ["main", "SUPPORTED", "refresh_notebook_copies", "pristine_exercises", "planned_runs"]
 
 #: Python versions the course runs on (every pinned binary dependency ships wheels for them).
 SUPPORTED = ((3, 11), (3, 12), (3, 13))
@@ -231,31 +231,78 @@ def _withheld_notebooks(root: Path) -> list[str]:
     return [str(n) for n in data.get("notebooks", [])] if isinstance(data, dict) else []
 
 
+def _workers(python: Path) -> list[str]:
+    """pytest-xdist's options for one worker per core (none where it is not installed: the tests then run in one)."""
+    cores = os.cpu_count() or 1
+    found = subprocess.run([str(python), "-c", "import xdist"], capture_output=True).returncode == 0
+    return ["-n", str(cores), "--dist", "loadfile"] if found and cores > 1 else []
+
+
+def _tally(report: Path) -> tuple[int, int, int, int]:
+    """(tests, failures and errors, skipped, passed) of one run's JUnit XML report; zeros when it is missing."""
+    import xml.etree.ElementTree as ET
+
+    try:
+        root = ET.parse(report).getroot()
+    except (OSError, ET.ParseError):
+        return 0, 0, 0, 0
+    suites = [root] if root.tag == "testsuite" else list(root.iter("testsuite"))
+    tests = sum(int(s.get("tests", 0)) for s in suites)
+    failed = sum(int(s.get("failures", 0)) + int(s.get("errors", 0)) for s in suites)
+    skipped = sum(int(s.get("skipped", 0)) for s in suites)
+    return tests, failed, skipped, tests - failed - skipped
+
+
+def planned_runs(root: Path, env: dict[str, str]) -> list[tuple[str, list[str], dict[str, str]]]:
+    """The pytest runs of ``test``: (what it tests, the selection, its environment), in order.
+
+    The library's tests with the notebooks compared exactly on the untouched exercises; the notebooks a copy without the
+    library's references runs without comparing (its ``WITHHELD.json``); every notebook on the solutions track, where
+    the course has ``solutions/``.
+    """
+    notebooks = sorted(str(p.relative_to(root)) for p in (root / "notebooks").glob("[0-9][0-9]_*.ipynb"))
+    lax = [n for n in notebooks if n in _withheld_notebooks(root)]
+    exact = [n for n in notebooks if n not in lax]
+    exercises_env = {**env, "RRBOT_WORKSHOP_TRACK": "exercises"}
+    # the stored outputs are what a learner sees on the untouched exercises: compared exactly
+    runs = [("library, graders and notebooks (exercises, compared)", ["--nbval", "tests/unit", *exact], exercises_env)]
+    if lax:
+        runs.append(("notebooks without the withheld references (run, not compared)", ["--nbval-lax", *lax],
+                     exercises_env))
+    if (root / "solutions").is_dir():  # the finished track must run top to bottom too (outputs differ)
+        runs.append(("notebooks on the solutions track (run, not compared)", ["--nbval-lax", *notebooks],
+                     {**env, "RRBOT_WORKSHOP_TRACK": "solutions"}))
+    return runs
+
+
 def test(root: Path, args: Sequence[str]) -> int:
-    """Set up and run every test: library, graders, and every notebook on both tracks."""
+    """Set up and run every test: library, graders, and every notebook on both tracks, on every core.
+
+    The runs of :func:`planned_runs`, each spread over the cores by pytest-xdist, a test file (or notebook) per worker at
+    a time. The count of every run is printed at the end.
+    """
     python = setup(root)
     env = dict(os.environ)
-    with pristine_exercises(root) as exercises:
+    with pristine_exercises(root) as exercises, tempfile.TemporaryDirectory(prefix="rrbot_reports_") as reports:
         if exercises is not None:
             env[EXERCISES_ENV] = str(exercises)
         else:
             _say("not a git checkout: testing exercises/ as it is (a learner's work may fail the graders' tests)")
         if args:
             return _pytest(python, args, env, root)
-        codes = [_pytest(python, ["-p", "no:cacheprovider"], env, root)]
-        notebooks = sorted(str(p.relative_to(root)) for p in (root / "notebooks").glob("[0-9][0-9]_*.ipynb"))
-        options = ["-p", "no:cacheprovider", "--nbval-current-env", "--nbval-sanitize-with", "notebooks/nbval_sanitize.cfg"]
-        nbval = [*options, *notebooks]
-        # a copy without the library's references runs the notebooks they made outputs for, without comparing them
-        lax = [n for n in notebooks if n in _withheld_notebooks(root)]
-        exact = [n for n in notebooks if n not in lax]
-        exercises_env = {**env, "RRBOT_WORKSHOP_TRACK": "exercises"}
-        # the stored outputs are what a learner sees on the untouched exercises: compared exactly
-        codes.append(_pytest(python, ["--nbval", *options, *exact], exercises_env, root))
-        if lax:
-            codes.append(_pytest(python, ["--nbval-lax", *options, *lax], exercises_env, root))
-        if (root / "solutions").is_dir():  # the finished track must run top to bottom too (outputs differ)
-            codes.append(_pytest(python, ["--nbval-lax", *nbval], {**env, "RRBOT_WORKSHOP_TRACK": "solutions"}, root))
+        options = ["-p", "no:cacheprovider", "--nbval-current-env", "--nbval-sanitize-with", "notebooks/nbval_sanitize.cfg",
+                   *_workers(python)]
+        runs = planned_runs(root, env)
+        codes, lines = [], []
+        for index, (what, selection, run_env) in enumerate(runs):
+            report = Path(reports) / f"run{index}.xml"
+            codes.append(_pytest(python, [*options, f"--junit-xml={report}", *selection], run_env, root))
+            tests, failed, skipped, passed = _tally(report)
+            lines.append(f"{what}: {tests} tests, {passed} passed, {failed} failed, {skipped} skipped")
+        for line in lines:
+            _say(line)
+        total = [sum(_tally(Path(reports) / f"run{i}.xml")[k] for i in range(len(runs))) for k in range(4)]
+        _say(f"in all: {total[0]} tests, {total[3]} passed, {total[1]} failed, {total[2]} skipped")
     return next((code for code in codes if code != 0), 0)
 
 
