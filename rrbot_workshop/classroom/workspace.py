@@ -44,6 +44,7 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from rrbot_workshop.classroom.course_files import COURSE_FILES, SKIP, CourseFiles
 from rrbot_workshop.classroom.launcher import (
     PARTIAL_SUFFIX,
     clear_for_file,
@@ -67,12 +68,9 @@ __all__ = ["MARKER", "COURSE_FILES", "InitResult", "init_workspace", "default_wo
 
 #: The file that marks a folder as a workspace made by :func:`init_workspace` (what it was made from, and when).
 MARKER = ".rrbot_workshop_workspace.json"
-#: What a workspace copies from the course, course-relative; replaced on every update (the course's, not the learner's).
-COURSE_FILES = ("README.md", "notebooks", "descriptions", "tests/conftest.py", "tests/tasks", "exercises/README.md")
 _ARCHIVE = PRISTINE_ARCHIVE.as_posix()
-_SKIP = {"__pycache__", ".ipynb_checkpoints", ".progress", "_generated"}
-#: The largest marker file read [bytes].
-_MARKER_MAX_BYTES = 64 * 1024
+#: The largest marker file read [bytes] (it holds a digest per course file).
+_MARKER_MAX_BYTES = 4 * 1024 * 1024
 
 
 @dataclass
@@ -122,7 +120,7 @@ def _files(folder: Path) -> dict[str, bytes]:
     out = {}
     for path in sorted(folder.rglob("*")):
         rel = path.relative_to(folder)
-        if path.is_file() and not (set(rel.parts) & _SKIP) and not path.name.endswith(PARTIAL_SUFFIX):
+        if path.is_file() and not (set(rel.parts) & SKIP) and not path.name.endswith(PARTIAL_SUFFIX):
             out[rel.as_posix()] = path.read_bytes()
     return out
 
@@ -137,7 +135,9 @@ def _read_marker(workspace: Path, notes: list[str]) -> dict[str, object]:
         marker = json.loads(data.decode()) if data is not None else None
     except (ValueError, UnicodeDecodeError):
         marker = None
-    if isinstance(marker, dict) and isinstance(marker.get("source", ""), str):
+    record = marker.get("course_files", {}) if isinstance(marker, dict) else None
+    if (isinstance(marker, dict) and isinstance(marker.get("source", ""), str) and isinstance(record, dict)
+            and all(isinstance(v, list) and all(isinstance(d, str) for d in v) for v in record.values())):
         return marker
     notes.append(f"{MARKER} was damaged: it is rebuilt (the workspace follows the course installed now)")
     return {}
@@ -208,10 +208,16 @@ def init_workspace(target: str | os.PathLike[str] | None = None, source: str | o
         workspace.mkdir(parents=True, exist_ok=True)
         made = marker.get("made")
         made = float(made) if isinstance(made, int | float) else time.time()
-        if created or not marker:  # marked first: a first init killed half-way is still a workspace, finished next time
-            _write_marker(workspace, src, made, None, notes)
+        # the record of the course's files: none in a new workspace or a damaged marker (every file that differs
+        # from the course's is then the learner's); a workspace made before records were kept has its replaced whole
+        known = {} if not marker else marker["course_files"] if "course_files" in marker else None
+        course_files = CourseFiles(src, workspace, known, notes)  # type: ignore[arg-type]
+        # marked first (a first init killed half-way is still a workspace, finished next time), with the digests of
+        # the course's files old and new (a copy killed half-way leaves none the next start takes for the learner's)
+        _write_marker(workspace, src, made, None, course_files.record_during(), notes)
+        course_files.copy()
         _fill(src, workspace, result, now)
-        _write_marker(workspace, src, made, time.time(), notes)
+        _write_marker(workspace, src, made, time.time(), course_files.record_after(), notes)
     except OSError as exc:
         where = exc.filename or workspace
         raise CourseError("workspace", str(where), f"{where} cannot be written ({exc.strerror or exc}); every file "
@@ -220,8 +226,9 @@ def init_workspace(target: str | os.PathLike[str] | None = None, source: str | o
     return result
 
 
-def _write_marker(workspace: Path, src: Path, made: float, updated: float | None, notes: list[str]) -> None:
-    marker = {"source": str(src), "made": made, "updated": updated}
+def _write_marker(workspace: Path, src: Path, made: float, updated: float | None, record: dict[str, list[str]],
+                  notes: list[str]) -> None:
+    marker = {"source": str(src), "made": made, "updated": updated, "course_files": record}
     write_atomically(clear_for_file(workspace, MARKER, notes), (json.dumps(marker, indent=1) + "\n").encode())
 
 
@@ -240,48 +247,6 @@ def _handed_out(workspace: Path, notes: list[str]) -> dict[str, bytes]:
         notes.append(f"{_ARCHIVE} could not be read ({why}): it is rebuilt from the installed course; each exercise "
                      "file of yours that differs from the course's is kept, the course's beside it")
         return {}
-
-
-def _copy_course_files(src: Path, workspace: Path, notes: list[str]) -> None:
-    """Replace the course's own files and folders in the workspace by the installed course's (each file written
-    atomically, each folder copied beside its place and swapped in)."""
-    import shutil
-
-    for rel in COURSE_FILES:
-        source = src / rel
-        if source.is_dir():
-            parent = make_folder(workspace, str(Path(rel).parent), notes)
-            dst = parent / Path(rel).name
-            staging, old = dst.with_name(f".{dst.name}.new"), dst.with_name(f".{dst.name}.old")
-            for leftover in (staging, old):  # a swap that was killed: both names are ours
-                _remove(leftover)
-            shutil.copytree(source, staging, ignore=shutil.ignore_patterns(*_SKIP))
-            if os.path.lexists(dst):
-                if stat.S_ISDIR(os.lstat(dst).st_mode):
-                    os.rename(dst, old)
-                else:
-                    move_aside(dst, workspace, notes, "a folder")
-            os.rename(staging, dst)
-            _remove(old)
-        elif source.is_file():
-            data = source.read_bytes()
-            dst = clear_for_file(workspace, rel, notes)
-            if regular_file_bytes(dst, len(data)) != data:
-                write_atomically(dst, data, source.stat().st_mode & 0o777)
-
-
-def _remove(path: Path) -> None:
-    """Remove one of init's own staging names (a folder, or a file or link at that name)."""
-    import shutil
-
-    try:
-        mode = os.lstat(path).st_mode
-    except FileNotFoundError:
-        return
-    if stat.S_ISDIR(mode):
-        shutil.rmtree(path)
-    else:
-        os.unlink(path)
 
 
 def _state(workspace: Path, rel: str) -> tuple[str, int]:
@@ -307,6 +272,9 @@ def _update_exercises(src: Path, workspace: Path, result: InitResult) -> dict[st
     """Add, update or keep each exercise file of the course (see the module's docstring); return them all."""
     new = {f"exercises/{k}": v for k, v in _files(src / "exercises").items() if k != "README.md"}
     old = _handed_out(workspace, result.notes)
+    for rel, data in new.items():  # first the folders the course writes into where the learner has a file or link
+        if old.get(rel) != data and _state(workspace, rel)[0] == "blocked":
+            make_folder(workspace, str(Path(rel).parent), result.notes)
     for rel, data in new.items():
         handed = old.get(rel)
         state, size = _state(workspace, rel)
@@ -331,15 +299,15 @@ def _update_exercises(src: Path, workspace: Path, result: InitResult) -> dict[st
 
 
 def _fill(src: Path, workspace: Path, result: InitResult, now: float | None) -> None:
-    """Copy and update the workspace's files (see :func:`init_workspace`)."""
-    _copy_course_files(src, workspace, result.notes)
+    """Update the exercises, their record and the notebook copies (see :func:`init_workspace`)."""
     new = _update_exercises(src, workspace, result)
     archive = clear_for_file(workspace, _ARCHIVE, result.notes)
     data = pristine_archive_bytes(new)
     if len(data) > ARCHIVE_MAX_BYTES:
         raise CourseError("course folder", str(src), f"its exercises make an archive of {len(data)} bytes, more than "
                           f"the {ARCHIVE_MAX_BYTES} a workspace keeps")
-    write_atomically(archive, data)  # last: the record of what was handed out follows the files it describes
+    if regular_file_bytes(archive, len(data)) != data:
+        write_atomically(archive, data)  # last: the record of what was handed out follows the files it describes
     result.notebooks = refresh_notebook_copies(workspace, now, result.notes)
 
 

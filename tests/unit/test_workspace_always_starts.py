@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import gzip
 import io
+import json
 import os
 import stat
 import subprocess
@@ -429,3 +430,43 @@ def test_singleuser_as_the_spawner_runs_it_logs_one_line_each_and_execs_the_serv
     (printed,) = proc.stdout.splitlines()
     assert printed.startswith("SERVER ") and printed.endswith("--port=8888")
     assert str(home / "rrbot_workshop") in printed
+
+
+# ------------------------------------------------------------------------------------------ the course's own copies
+def test_a_learners_edit_of_a_course_file_is_kept_beside_the_courses(ws: Path, installed: Path) -> None:
+    (ws / "descriptions/robot/r.urdf").write_text("<robot name='mine'/>")
+    (ws / "descriptions/robot/notes.txt").write_text("my notes\n")
+    (ws / "README.md").write_text("# my readme\n")
+    (installed / "descriptions/robot/r.urdf").write_text("<robot name='r2'/>")
+    result = init_workspace(ws)
+    assert sorted(result.notes) == [
+        "README.md: you changed this file of the course's; the course's is in its place and yours is kept beside it "
+        "as README.md.yours",
+        "descriptions/robot/r.urdf: you changed this file of the course's; the course's is in its place and yours is "
+        "kept beside it as r.urdf.yours"]
+    assert (ws / "descriptions/robot/r.urdf").read_text() == "<robot name='r2'/>"
+    assert (ws / "descriptions/robot/r.urdf.yours").read_text() == "<robot name='mine'/>"
+    assert (ws / "descriptions/robot/notes.txt").read_text() == "my notes\n"  # the learner's own file stays in place
+    assert (ws / "README.md.yours").read_text() == "# my readme\n"
+    before = tree(ws)
+    assert init_workspace(ws).notes == [] and tree(ws).keys() == before.keys()
+
+
+def test_a_course_update_of_its_own_files_replaces_them_without_a_line(ws: Path, installed: Path) -> None:
+    (installed / "descriptions/robot/r.urdf").write_text("<robot name='r2'/>")
+    (installed / "notebooks/01_fake.ipynb").write_text(notebook("one, updated"))
+    (installed / "descriptions/robot/r.urdf").rename(installed / "descriptions/robot/renamed.urdf")
+    result = init_workspace(ws)
+    assert result.notes == [] and not (ws / "descriptions/robot/r.urdf").exists()
+    assert (ws / "descriptions/robot/renamed.urdf").read_text() == "<robot name='r2'/>"
+
+
+def test_a_workspace_without_a_record_of_the_course_files_has_them_replaced_whole(ws: Path) -> None:
+    """Made by an earlier version: its marker has no record, and its course copies are replaced as they always were."""
+    marker = json.loads((ws / MARKER).read_text())
+    del marker["course_files"]
+    (ws / MARKER).write_text(json.dumps(marker))
+    (ws / "descriptions/robot/r.urdf").write_text("<robot name='mine'/>")
+    assert init_workspace(ws).notes == []
+    assert (ws / "descriptions/robot/r.urdf").read_text() == "<robot name='r'/>"
+    assert "course_files" in json.loads((ws / MARKER).read_text())

@@ -103,3 +103,71 @@ def no_hang(fn: Callable[..., Any], *args: Any, limit: float = 120.0, release: C
     if "error" in outcome:
         raise outcome["error"]
     return outcome.get("value")
+
+
+# ------------------------------------------------------------------------------------------ kills at a random write
+class Killed(BaseException):
+    """Stands for the process being killed (a BaseException: no ``except Exception`` of the code under test sees it)."""
+
+
+_MUTATING = {"write", "replace", "rename", "mkdir", "makedirs", "unlink", "remove", "rmdir", "symlink", "link",
+             "copytree", "rmtree", "move", "copy", "copy2", "copyfile", "open"}
+_WRITE_FLAGS = os.O_WRONLY | os.O_RDWR | os.O_CREAT
+
+
+class FaultPlan:
+    """Counts every change the code under test makes to the disk, and acts (raises :class:`Killed`, or kills the
+    process) just before change number ``at``; a write is cut in half first, as a kill in the middle of it would."""
+
+    def __init__(self, at: int | None, act: Callable[[], None]) -> None:
+        self.at = at
+        self.count = 0
+        self.act = act
+
+    def before(self, name: str, real: Callable[..., Any], args: tuple[Any, ...]) -> None:
+        if self.count == self.at:
+            if name == "write":
+                real(args[0], bytes(args[1])[: len(args[1]) // 2])
+            self.act()
+        self.count += 1
+
+
+class _Faulty:
+    """A stand-in for a module (``os``, ``shutil``) that lets :class:`FaultPlan` see every call that changes files."""
+
+    def __init__(self, real: Any, plan: FaultPlan) -> None:
+        self._real, self._plan = real, plan
+
+    def __getattr__(self, name: str) -> Any:
+        attr = getattr(self._real, name)
+        if name not in _MUTATING or not callable(attr):
+            return attr
+
+        def call(*args: Any, **kwargs: Any) -> Any:
+            if name != "open" or (len(args) > 1 and args[1] & _WRITE_FLAGS):
+                self._plan.before(name, attr, args)
+            return attr(*args, **kwargs)
+
+        return call
+
+
+def raise_killed() -> None:
+    raise Killed
+
+
+def install_faults(plan: FaultPlan) -> Callable[[], None]:
+    """Route the ``os`` and ``shutil`` of the modules that write a workspace through ``plan``; return the undo."""
+    import shutil
+
+    from rrbot_workshop.classroom import course_files, launcher, workspace
+
+    real = {"os": os, "shutil": shutil}
+    saved = [(m, n, getattr(m, n)) for m in (launcher, workspace, course_files) for n in real if hasattr(m, n)]
+    for module, name, _ in saved:
+        setattr(module, name, _Faulty(real[name], plan))
+
+    def undo() -> None:
+        for module, name, value in saved:
+            setattr(module, name, value)
+
+    return undo

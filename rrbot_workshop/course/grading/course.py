@@ -8,6 +8,7 @@ git repository of its own; it also carries the exercises in ``.pristine/exercise
 
 from __future__ import annotations
 
+import gzip
 import io
 import logging
 import os
@@ -125,7 +126,7 @@ def read_pristine_archive(archive: Path) -> dict[str, bytes]:
 def pristine_archive_bytes(files: dict[str, bytes]) -> bytes:
     """A pristine archive of ``files`` (course-relative POSIX path -> bytes), the same bytes for the same files."""
     buffer = io.BytesIO()
-    with tarfile.open(fileobj=buffer, mode="w:gz") as tar:
+    with gzip.GzipFile(fileobj=buffer, mode="wb", mtime=0) as packed, tarfile.open(fileobj=packed, mode="w") as tar:
         for rel, data in sorted(files.items()):
             info = tarfile.TarInfo(rel)
             info.size, info.mode, info.mtime = len(data), 0o644, 0
