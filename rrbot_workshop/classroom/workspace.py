@@ -105,9 +105,10 @@ def default_workspace() -> Path:
 
 
 def is_workspace(folder: Path) -> bool:
-    """True if ``folder`` is a real folder (not a link) marked as a workspace by :func:`init_workspace`."""
+    """True if ``folder`` (or the folder a link of the learner's there leads to) is marked as a workspace by
+    :func:`init_workspace`."""
     try:
-        return stat.S_ISDIR(os.lstat(folder).st_mode) and os.path.lexists(folder / MARKER)
+        return stat.S_ISDIR(os.stat(folder).st_mode) and os.path.lexists(folder / MARKER)
     except OSError:
         return False
 
@@ -188,7 +189,13 @@ def init_workspace(target: str | os.PathLike[str] | None = None, source: str | o
             neither empty nor a workspace (or is a file), or a file cannot be written (the message names it; what
             was written so far is whole, and the next ``init`` goes on from there).
     """
-    workspace = Path(target).expanduser().resolve() if target is not None else default_workspace()
+    # resolved: a workspace the learner keeps elsewhere through a link of their own is that folder (below it, no link
+    # is ever followed)
+    given = Path(target if target is not None else default_workspace()).expanduser()
+    if given.is_symlink() and not given.exists():
+        raise CourseError("workspace", str(given), f"{given} is a link to {os.readlink(given)}, which is not there; "
+                          "remove the link, or make the folder it leads to")
+    workspace = given.resolve()
     notes: list[str] = []
     created = not os.path.lexists(workspace / MARKER)
     marker = {} if created else _read_marker(workspace, notes)

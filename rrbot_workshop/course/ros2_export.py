@@ -295,7 +295,11 @@ def _check(source: ExportSource) -> _Plan:
     try:
         config = load_controllers_yaml(source.controllers)
     except ParameterError as exc:
-        plan.problems.append(f"{shown_yaml} does not load: {exc}")
+        if exc.parameter == "type" or exc.parameter.endswith(".type"):  # a controller type that is no plugin name
+            where = exc.parameter if exc.parameter != "type" else f"{exc.owner}.type"
+            plan.invalid_names.append(f"{shown_yaml}: {_shown_name(where)} is not a plugin name")
+        else:
+            plan.problems.append(f"{shown_yaml} does not load: {exc}")
         return plan
     for name, type_name in config.controller_types.items():
         problem = node_name_problem(name)
