@@ -14,7 +14,8 @@ The library itself is not copied: it comes from the shared environment; nor are 
 run inside the workspace (a notebook in ``my_notebooks/``, a terminal there) uses it as the course folder.
 
 Running ``init`` again updates the workspace without touching the learner's work, as ``git pull`` does on a
-laptop: the course's own files are replaced; an exercise file is updated only where the learner never changed it
+laptop: the course's own files are replaced (what the learner changed or added among them is kept, see
+:mod:`~rrbot_workshop.classroom.course_files`); an exercise file is updated only where the learner never changed it
 (it still equals the version handed out), and a changed one is kept, with the new version beside it as
 ``<name>.course-update``; new tasks' folders are added; a notebook copy the course updated is moved to
 ``my_notebooks/backups/`` first.
@@ -33,6 +34,8 @@ A workspace always starts:
   update goes on.
 * The workspace follows the course as installed now (``$RRBOT_WORKSHOP_ROOT``, else the course this library belongs
   to); when that is not the course it was made from, one line says so.
+* The workspace folder may be a link of the learner's to a folder elsewhere (that folder is the workspace); below it,
+  no link is followed.
 """
 
 from __future__ import annotations
