@@ -210,7 +210,12 @@ def init_workspace(target: str | os.PathLike[str] | None = None, source: str | o
         raise CourseError("workspace", str(workspace), f"must be outside the installed course '{src}'")
     if os.path.lexists(workspace) and not workspace.is_dir():
         raise CourseError("workspace", str(workspace), "is a file; give a folder (default ~/rrbot_workshop)")
-    if created and workspace.exists() and any(workspace.iterdir()):
+    try:
+        occupied = created and workspace.exists() and any(workspace.iterdir())
+    except OSError as exc:
+        raise CourseError("workspace", str(workspace), f"{workspace} cannot be read ({exc.strerror or exc}); give a "
+                          "folder you can read and write") from None
+    if occupied:
         raise CourseError("workspace", str(workspace), "exists, is not empty and is not a workspace made by "
                           "`rrbot-workshop init`; give a new folder")
     result = InitResult(workspace, created, source=src, notes=notes)
