@@ -17,9 +17,11 @@ piece of state we touch is restored afterwards.
 
 from __future__ import annotations
 
+import errno
 import logging
 import os
 import re
+import stat
 import threading
 import xml.parsers.expat
 from collections.abc import Iterator
@@ -103,6 +105,22 @@ def _mapping_value(value: Any) -> str:
     return str(value)
 
 
+def _open_regular(file: Any, mode: str = "r", *args: Any, **kwargs: Any) -> Any:
+    """``open`` for xacro: a file read (the description, an include, a YAML file) must be a regular file, so a FIFO
+    or a device named by a description never blocks or floods the expansion."""
+    if isinstance(file, int) or any(c in mode for c in "wax+"):
+        return open(file, mode, *args, **kwargs)  # noqa: SIM115 - xacro closes what it opens
+    fd = os.open(file, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
+    try:
+        if not stat.S_ISREG(os.fstat(fd).st_mode):
+            raise OSError(errno.EINVAL, "not a regular file (a FIFO, a device or a folder)", str(file))
+        os.set_blocking(fd, True)
+        return open(fd, mode, *args, **kwargs)  # noqa: SIM115 - xacro closes what it opens
+    except BaseException:
+        os.close(fd)
+        raise
+
+
 @contextmanager
 def _xacro_sandbox() -> Iterator[None]:
     """Redirect ``$(find)`` to :func:`find_package` and restore every xacro global afterwards."""
@@ -121,9 +139,15 @@ def _xacro_sandbox() -> Iterator[None]:
     with _LOCK:
         _subst._eval_find = _eval_find  # type: ignore[assignment]
         _subst._eval_dict["find"] = _eval_find
+        saved_open = vars(xacro).get("open")
+        xacro.open = _open_regular  # type: ignore[attr-defined]  # shadows the builtin in xacro's module only
         try:
             yield
         finally:
+            if saved_open is None:
+                vars(xacro).pop("open", None)
+            else:
+                xacro.open = saved_open  # type: ignore[attr-defined]
             _subst._eval_find = saved_find  # type: ignore[assignment]
             _subst._eval_dict["find"] = saved_eval_find
             xacro.verbosity = saved_verbosity
