@@ -23,9 +23,15 @@ The specification (from the ROSCon 2022 workshop, task 2):
   any command within the limits, in the order of ``joints``); and the joint trajectory controller, driven by the
   workshop's test goal publisher, reaches each of its four goals within 1 mrad.
 
-Every argument is tried both ways (a hard-coded ``true`` or ``false`` fails one of them), the ``<ros2_control>``
-macro is also instantiated on its own with each value of its parameters, and the bringup is run once on a copy of
-the learner's files whose trajectory controller cannot load, to see that nothing is left running.
+Every argument is tried both ways (a hard-coded ``true`` or ``false`` fails one of them), and the ``<ros2_control>``
+macro is also instantiated on its own with each value of its parameters. The YAML is read as Jazzy reads it: each
+controller's ``type`` under the controller manager or in the controller's own section, block or flow style.
+
+One slip costs the rule it breaks. The bringup's checks run the learner's ``start_rrbot``; when the learner's YAML
+or description breaks a rule its own checks judge, the library's RRBot file stands in for it while the bringup runs
+(``descriptions/rrbot``). The defaults and the macro's parameters are judged by what the learner's own switch makes
+of them, and the parameter check takes the stated values as given. A check that builds on another names it
+(``graded(after=...)``): a bringup that does not start is the cause of every bringup check's failure.
 """
 
 from __future__ import annotations

@@ -19,7 +19,9 @@ The specification (the TODOs of ``rrbot_hardware_interface.py`` and ``rrbot_cont
 * 7.5 the controllers YAML defines ``incompatible_joint_trajectory_controller``, a JTC commanding position and velocity.
 
 Most checks drive the learner's class through the library's lifecycle wrapper (``HardwareComponent``), as the resource
-manager does; the mode checks run a controller manager. ``test_same_as_the_library_driver`` runs generated sequences
+manager does; the mode checks run a controller manager. Each check judges its own rule: the grader enables the device
+or sets its mode itself where another rule's slip would hide this one's, and a failure it provokes (an unplugged
+device) is not put at the head of a later reason. ``driver_comes_up`` is the root of the checks that run the driver. ``test_same_as_the_library_driver`` runs generated sequences
 of commands, mode switches and lifecycle steps on the learner's driver and on the library's
 (``rrbot_workshop.hardware.rrbot``) side by side and reports the smallest sequence that tells them apart.
 """
