@@ -221,6 +221,11 @@ WRONG = [
           ("self.device.write_joint_commands(positions, velocities, period)",
            "self.device.write_joint_commands(positions, positions, period)"),
           says={"joint_states_and_commands": "velocity"}),
+    one("claims_forgotten_only_at_cleanup", {"claims_forgotten_at_configure"},
+        ("        self.claimed = set()\n        for joint", "        for joint"),
+        ("        self.device = None\n        return CallbackReturn.SUCCESS\n\n    # ---",
+         "        self.device = None\n        self.claimed = set()\n        return CallbackReturn.SUCCESS\n\n    # ---"),
+        says={"claims_forgotten_at_configure": "after a failure"}),
     wrong("claims_forgotten_at_activation_instead", {SUMMARY},
           ("        self.claimed = set()\n        for joint", "        for joint"),
           ("        self.device.init()\n", "        self.device.init()\n        self.claimed = set()\n")),
@@ -300,6 +305,12 @@ def test_alternative_solution_gets_full_marks(rubrics: dict, variant: Variant) -
 @pytest.mark.parametrize("variant", [v for v in WRONG if v.name not in MANY_SLIPS], ids=str)
 def test_one_slip_shows_hints_for_one_check(rubrics: dict, variant: Variant) -> None:
     assert_one_cause(rubrics[variant.name], check_specs(7), variant.name)
+
+
+def test_a_failure_the_grader_provokes_is_not_the_reason(rubrics: dict) -> None:
+    """The claims check unplugs the device in read; the reason names the claims in on_configure, not that read."""
+    check = next(c for c in rubrics["claims_forgotten_only_at_cleanup"].checks if c.name == "claims_forgotten_at_configure")
+    assert not check.passed and "in read" not in check.detail and "unplugged" not in check.detail, check.detail
 
 
 def test_after_names_checks_of_the_grader() -> None:
