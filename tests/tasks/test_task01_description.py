@@ -224,7 +224,7 @@ def test_description_processes(model: yourdfpy.URDF) -> None:
     assert model.robot.links, "the URDF of rrbot.urdf.xacro has no links"
 
 
-@graded(after=("description_processes",), points=2, hint=(
+@graded(after=("test_description_processes",), points=2, hint=(
     "The chain is base_link -joint1-> link1 -joint2-> link2 -> tool0; joint1 and joint2 are revolute, tool0 hangs on "
     "link2 by a fixed joint. Two more frames hang by fixed joints: base on base_link and flange on tool0.",
     "A <joint> names its <parent link> and <child link>; an empty <link name='...'/> is a frame.",
@@ -247,7 +247,7 @@ def test_links_and_joints(model: yourdfpy.URDF) -> None:
         )
 
 
-@graded(after=("description_processes",), given=True, points=1, hint=(
+@graded(after=("test_description_processes",), given=True, points=1, hint=(
     "The pedestal (base_link) is a box 0.3 x 0.3 x 0.3 m standing on the ground.",
     "Its visual's origin is half its height above the base_link frame.",
     "<origin xyz='0 0 ${pedestal_size / 2}'/> <box size='${pedestal_size} ${pedestal_size} ${pedestal_size}'/>",
@@ -259,7 +259,7 @@ def test_pedestal(model: yourdfpy.URDF) -> None:
     assert _close(pose[2, 3], 0.15), f"the pedestal's centre is {pose[2, 3]:.3f} m above the ground, expected 0.15"
 
 
-@graded(after=("links_and_joints",), points=2, hint=(
+@graded(after=("test_links_and_joints",), points=2, hint=(
     "joint1 sits on top of the pedestal, 0.3 m above the ground, and turns about the vertical axis; a positive angle "
     "turns the arm counter-clockwise seen from above.",
     "A joint's <origin xyz> places it in its parent's frame; <axis xyz> is the direction it turns about (right-hand "
@@ -277,7 +277,7 @@ def test_joint1_placement(model: yourdfpy.URDF) -> None:
     )
 
 
-@graded(after=("links_and_joints",), points=1, hint=(
+@graded(after=("test_links_and_joints",), points=1, hint=(
     "link1 is a cylinder 0.5 m long with a 0.1 m radius (0.2 m diameter), reaching from joint1 up to joint2.",
     "A <cylinder> stands along its frame's z axis and is centred on its <origin>: visual and collision both need "
     "the origin at half the length.",
@@ -300,7 +300,7 @@ def test_link1_shape(model: yourdfpy.URDF) -> None:
         assert _close(abs(origin[2, 2]), 1.0), f"link1's {element} cylinder must stand along the link's z axis"
 
 
-@graded(after=("joint1_placement", "link1_shape"), points=2, hint=(
+@graded(after=("test_joint1_placement", "test_link1_shape"), points=2, hint=(
     "joint2 sits at the top of link1 (0.5 m above joint1, so 0.8 m above the ground) and turns about a horizontal "
     "axis, orthogonal to link1.",
     "joint2's <origin xyz> is in link1's frame; its <axis> is in joint2's own frame, after the origin's rpy.",
@@ -316,7 +316,7 @@ def test_joint2_placement(model: yourdfpy.URDF) -> None:
     assert abs(axis[2]) < TOL, f"in rrbot_macro.xacro joint2 turns about {_r(axis)} in the world, not a horizontal axis"
 
 
-@graded(after=("links_and_joints",), points=1, hint=(
+@graded(after=("test_links_and_joints",), points=1, hint=(
     "link2 is a box 0.6 m long with a 0.1 x 0.1 m cross-section, along its frame's z axis from joint2 (z=0) to "
     "tool0 (z=0.6): visual and collision alike.",
     "A <box size='x y z'> is centred on its <origin>: the long side goes third to lie along z, and the origin sits "
@@ -338,7 +338,7 @@ def test_link2_shape(model: yourdfpy.URDF) -> None:
         )
 
 
-@graded(after=("joint2_placement", "link2_shape"), points=3, hint=(
+@graded(after=("test_joint2_placement", "test_link2_shape"), points=3, hint=(
     "tool0 is at the tip of link2, 0.6 m from joint2. At zero link2 is horizontal (tool0 0.8 m high, 0.6 m from the "
     "vertical axis); at joint2=+90 deg it points straight up (tool0 at 0 0 1.4); joint1 swings it around the vertical "
     "axis.",
@@ -373,7 +373,7 @@ def test_tool0_at_tip(model: yourdfpy.URDF) -> None:
     )
 
 
-@graded(after=("links_and_joints", "tool0_at_tip"), points=2, hint=(
+@graded(after=("test_links_and_joints", "test_tool0_at_tip"), points=2, hint=(
     "tool0 is turned as in the original workshop: its z axis points back along link2 towards joint2 and its x axis "
     "along joint2's axis; the force-torque sensor reports along these axes.",
     "Only the link2-tool0 joint's <origin rpy> turns tool0 (roll, pitch, yaw about x, y, z, in radians). Starting "
@@ -423,7 +423,9 @@ def _by_hand(q1: float, q2: float) -> np.ndarray:
             @ trans(0.6) @ rot_z(-math.pi / 2) @ rot_y(-math.pi))
 
 
-@graded(after=("joint1_placement", "joint2_placement", "tool0_at_tip", "tool0_orientation"), points=1, hint=(
+@graded(after=(
+    "test_joint1_placement", "test_joint2_placement", "test_tool0_at_tip", "test_tool0_orientation",
+), points=1, hint=(
     "For every pair of joint angles within the limits, tool0 must be where (and turned as) the specification puts "
     "it: the formula of notebook 01's forward-kinematics cell.",
     "Compare your URDF's tool0 with the notebook's tool0_by_hand(q1, q2) at the angles this check names; the "
@@ -476,7 +478,7 @@ def _check_limits(model: yourdfpy.URDF, name: str, lower_deg: float, upper_deg: 
     )
 
 
-@graded(after=("links_and_joints",), points=2, hint=(
+@graded(after=("test_links_and_joints",), points=2, hint=(
     "joint1 turns from -380 to +380 degrees at up to 180 deg/s, effort 1000 (the workshop's RRBot).",
     "A revolute joint's range goes in its <limit lower upper velocity effort> tag, in rad and rad/s; xacro can "
     "convert with ${radians(...)}.",
@@ -486,7 +488,7 @@ def test_joint1_limits(model: yourdfpy.URDF) -> None:
     _check_limits(model, "joint1", -380, 380)
 
 
-@graded(after=("links_and_joints",), points=2, hint=(
+@graded(after=("test_links_and_joints",), points=2, hint=(
     "joint2 turns from -60 to +240 degrees at up to 180 deg/s, effort 1000.",
     "As for joint1: a <limit> tag in rad and rad/s; ${radians(...)} converts degrees.",
     "joint2: <limit lower='${radians(-60)}' upper='${radians(240)}' velocity='${radians(180)}' effort='1000.0'/>.",
@@ -501,7 +503,7 @@ def _inertial(model: yourdfpy.URDF, name: str) -> Any:
     return inertial
 
 
-@graded(after=("links_and_joints",), points=2, hint=(
+@graded(after=("test_links_and_joints",), points=2, hint=(
     "The masses the task states: pedestal (base_link) 5.0 kg, link1 1.0 kg, link2 0.5 kg.",
     "A link's mass is <inertial><mass value='...'/>; keep each number in one xacro:property.",
     "<xacro:property name='link1_mass' value='1.0'/> <xacro:property name='link2_mass' value='0.5'/>, passed as "
@@ -515,7 +517,7 @@ def test_masses(model: yourdfpy.URDF) -> None:
         )
 
 
-@graded(after=("links_and_joints",), points=1, hint=(
+@graded(after=("test_links_and_joints",), points=1, hint=(
     "A body's inertial sits at its centre of mass: the middle of the box or cylinder, where its visual's origin is.",
     "The <inertial>'s <origin> is relative to the link's frame, like the visual's; the inertial macros insert the "
     "<origin> block you pass them.",
@@ -565,7 +567,7 @@ def _solid(model: yourdfpy.URDF, name: str, as_stated: bool = False) -> tuple[np
     return inertia, f"a box of {m:g} kg, {x:g} x {y:g} x {z:g} m along the link's x, y, z"
 
 
-@graded(after=("masses", "link1_shape", "link2_shape", "pedestal"), points=1, hint=(
+@graded(after=("test_masses", "test_link1_shape", "test_link2_shape", "test_pedestal"), points=1, hint=(
     "Each link's inertia is that of a solid body of its shape, size and mass: a box for base_link and link2, a "
     "cylinder for link1.",
     "Use the given macros: box_inertial(mass, x, y, z) and cylinder_inertial(mass, radius, length), with the sizes "
@@ -590,7 +592,7 @@ def test_inertias(model: yourdfpy.URDF) -> None:
 # --------------------------------------------------------------------------------------------- <ros2_control>
 
 
-@graded(after=("description_processes",), points=1, hint=(
+@graded(after=("test_description_processes",), points=1, hint=(
     "rrbot.urdf.xacro instantiates the macro of rrbot_macro.ros2_control.xacro, so the URDF has one "
     "<ros2_control name='rrbot' type='system'> tag with one <plugin> in its <hardware>.",
     "Include the macro file next to the other include, then call the macro with name='rrbot' and the prefix; a "
@@ -608,7 +610,7 @@ def test_ros2_control_tag(urdf: str, hardware: HardwareInfo) -> None:
     )
 
 
-@graded(after=("ros2_control_tag", "prefix"), points=1, hint=(
+@graded(after=("test_ros2_control_tag", "test_prefix"), points=1, hint=(
     "The macro's name parameter names the hardware component, with the prefix in front: a macro instantiated "
     f"with name='{OTHER_NAME}' prefix='{OTHER_PREFIX}' makes <ros2_control name='{OTHER_PREFIX}{OTHER_NAME}'>.",
     "In rrbot_macro.ros2_control.xacro use the macro's parameters ${name} and ${prefix}, not fixed text.",
@@ -622,7 +624,7 @@ def test_ros2_control_macro_name(renamed_urdf: str) -> None:
     )
 
 
-@graded(after=("ros2_control_tag",), points=3, hint=(
+@graded(after=("test_ros2_control_tag",), points=3, hint=(
     "Each of joint1 and joint2 is commanded in position and reports position, velocity and acceleration.",
     "Under <ros2_control>, one <joint name='${prefix}jointN'> per joint, with one <command_interface> and three "
     "<state_interface> tags, each interface once.",
@@ -642,7 +644,7 @@ def test_joint_interfaces(hardware: HardwareInfo) -> None:
         )
 
 
-@graded(after=("ros2_control_tag",), points=2, hint=(
+@graded(after=("test_ros2_control_tag",), points=2, hint=(
     "The force-torque sensor tcp_fts_sensor reports six values, fx fy fz tx ty tz, in the frame tool0.",
     "A <sensor> has only state interfaces, and a <param name='frame_id'> naming the frame its values are in.",
     "<sensor name='${prefix}tcp_fts_sensor'><state_interface name='fx'/> ... <state_interface name='tz'/>"
@@ -662,7 +664,7 @@ def test_fts_sensor(hardware: HardwareInfo) -> None:
     )
 
 
-@graded(after=("ros2_control_tag",), points=1, hint=(
+@graded(after=("test_ros2_control_tag",), points=1, hint=(
     "flange_gpios has two digital inputs, digital_in_1 and digital_in_2, which can only be read.",
     "An input is a <state_interface> of the <gpio>, with no <command_interface> of the same name.",
     "<gpio name='${prefix}flange_gpios'> ... <state_interface name='digital_in_1'/>"
@@ -676,7 +678,7 @@ def test_gpio_inputs(hardware: HardwareInfo) -> None:
         assert name not in commands, f"'{name}' of flange_gpios is an input: it must not be a command interface"
 
 
-@graded(after=("ros2_control_tag",), points=2, hint=(
+@graded(after=("test_ros2_control_tag",), points=2, hint=(
     "flange_gpios has two digital outputs, digital_out_1 and digital_out_2.",
     "An output is a <command_interface> of the <gpio>.",
     "<command_interface name='digital_out_1'/> and <command_interface name='digital_out_2'/> in "
@@ -690,7 +692,7 @@ def test_gpio_outputs(hardware: HardwareInfo) -> None:
     )
 
 
-@graded(after=("gpio_outputs",), points=1, hint=(
+@graded(after=("test_gpio_outputs",), points=1, hint=(
     "The outputs can be read back: a controller can see what the device really set.",
     "Next to each output's <command_interface>, give flange_gpios a <state_interface> of the same name.",
     "<command_interface name='digital_out_1'/><state_interface name='digital_out_1'/>, and the same for "
@@ -705,7 +707,7 @@ def test_gpio_output_readback(hardware: HardwareInfo) -> None:
         )
 
 
-@graded(after=("ros2_control_tag",), points=3, hint=(
+@graded(after=("test_ros2_control_tag",), points=3, hint=(
     "With prefix:=left_ every name starts with left_: every link (except world) and joint; in <ros2_control> the "
     "tag itself (left_rrbot), the joints left_joint1 and left_joint2, the sensor left_tcp_fts_sensor with frame_id "
     "left_tool0, and the GPIO left_flange_gpios. Any other prefix works the same way.",

@@ -269,7 +269,7 @@ def test_description_processes(description_file: Path) -> None:
     assert joints == JOINTS, f"the <ros2_control> joints are {joints}, expected {JOINTS}"
 
 
-@graded(points=3, after=("description_processes",), hint=(
+@graded(points=3, after=("test_description_processes",), hint=(
     "use_mock_hardware chooses the hardware: true gives mock_components/GenericSystem, false the robot's driver "
     "controlko_hardware_interface/RRBotHardwareInterface; exactly one <plugin> either way (Jazzy's parser would "
     "silently use the first of two).",
@@ -283,7 +283,7 @@ def test_use_mock_hardware_switch(description_file: Path) -> None:
     _check_switch(description_file)
 
 
-@graded(points=1, after=("use_mock_hardware_switch", "mock_sensor_commands_reaches_the_mock"), hint=(
+@graded(points=1, after=("test_use_mock_hardware_switch", "test_mock_sensor_commands_reaches_the_mock"), hint=(
     "Without arguments the description is the real robot's: use_mock_hardware and mock_sensor_commands default to "
     "false, and the launch file asks for the mock.",
     "A <xacro:arg name='...' default='...'/> gives the value used when the argument is not given.",
@@ -307,7 +307,7 @@ def test_description_defaults_to_the_driver(description_file: Path) -> None:
         )
 
 
-@graded(points=2, after=("description_processes",), hint=(
+@graded(points=2, after=("test_description_processes",), hint=(
     "mock_sensor_commands reaches the mock: with true it offers a command interface per sensor state "
     "(tcp_fts_sensor/fx ...), with false it does not.",
     "With the mock, add <param name='mock_sensor_commands'>${mock_sensor_commands}</param> in <hardware>; declare "
@@ -332,7 +332,7 @@ _WRAPPER = """<?xml version="1.0"?>
 """
 
 
-@graded(points=2, after=("use_mock_hardware_switch", "mock_sensor_commands_reaches_the_mock"), hint=(
+@graded(points=2, after=("test_use_mock_hardware_switch", "test_mock_sensor_commands_reaches_the_mock"), hint=(
     "The <ros2_control> macro takes the switch as its own parameters, use_mock_hardware and mock_sensor_commands, "
     "both defaulting to false; rrbot.urdf.xacro passes its arguments on to them.",
     "A macro that reads $(arg ...) itself only works in a robot file that declares those arguments, with one value for "
@@ -604,7 +604,7 @@ def test_joint_trajectory_controller_interfaces(controllers_file: Path) -> None:
     _check_trajectory_interfaces(_config(controllers_file))
 
 
-@graded(points=1, after=("joint_trajectory_controller_interfaces",), hint=(
+@graded(points=1, after=("test_joint_trajectory_controller_interfaces",), hint=(
     "The workshop's trajectory controller refuses partial goals and counts a joint slower than 0.01 rad/s as "
     "stopped, with no time limit after a trajectory's end.",
     "allow_partial_joints_goal is a boolean; constraints is a nested mapping with stopped_velocity_tolerance [rad/s] "
@@ -615,7 +615,7 @@ def test_joint_trajectory_controller_constraints(controllers_file: Path) -> None
     _check_trajectory_constraints(_config(controllers_file))
 
 
-@graded(points=1, after=("controller_types",), hint=(
+@graded(points=1, after=("test_controller_types",), hint=(
     "The three controllers must configure, and use only parameters they declare in Jazzy.",
     "The workshop's state_publish_rate no longer exists in Jazzy's trajectory controller; `rrbot-workshop lint "
     "rrbot_controllers.yaml` lists every parameter Jazzy would not take.",
@@ -746,7 +746,7 @@ def test_start_rrbot_activates_controllers(start: Callable[..., rw.System]) -> N
         )
 
 
-@graded(points=1, after=("start_rrbot_activates_controllers",), hint=(
+@graded(points=1, after=("test_start_rrbot_activates_controllers",), hint=(
     "start_rrbot() returns as soon as the controllers are up: the system's simulated time is still 0 s.",
     "rw.bringup and the controller manager's load/configure/switch calls take no simulated time; only "
     "system.spin() moves the clock. The launch file's delays are not needed here: each call returns when it is done.",
@@ -767,7 +767,7 @@ def test_start_rrbot_returns_at_time_zero(start: Callable[..., rw.System]) -> No
         system.shutdown()
 
 
-@graded(points=1, after=("start_rrbot_activates_controllers",), hint=(
+@graded(points=1, after=("test_start_rrbot_activates_controllers",), hint=(
     "robot_controller chooses the controller that drives the robot; the one that was not chosen is loaded and "
     "configured, not activated (as `spawner <name> --inactive`): joint_trajectory_controller by default, "
     "forward_position_controller when robot_controller='joint_trajectory_controller'.",
@@ -788,7 +788,7 @@ def test_other_controller_loaded_inactive(start: Callable[..., rw.System]) -> No
         system.shutdown()
 
 
-@graded(points=1, after=("start_rrbot_activates_controllers",), hint=(
+@graded(points=1, after=("test_start_rrbot_activates_controllers",), hint=(
     "start_rrbot(use_mock_hardware=False) brings the robot up on its own driver, "
     "controlko_hardware_interface/RRBotHardwareInterface, with the same controllers.",
     "Hand the argument on to xacro: rw.bringup(..., xacro_args={'use_mock_hardware': use_mock_hardware, ...}).",
@@ -807,7 +807,7 @@ def test_start_rrbot_passes_use_mock_hardware(start: Callable[..., rw.System], d
     )
 
 
-@graded(points=1, after=("start_rrbot_activates_controllers",), hint=(
+@graded(points=1, after=("test_start_rrbot_activates_controllers",), hint=(
     "start_rrbot(mock_sensor_commands=True) gives the mock a command interface per sensor state, such as "
     "tcp_fts_sensor/fx; the default (False) does not.",
     "Hand the argument on to xacro with the others: xacro_args={..., 'mock_sensor_commands': mock_sensor_commands}.",
@@ -850,7 +850,7 @@ def _loading_fails(failing: str) -> Iterator[list[str]]:
         ControllerManager.load_controller = original  # type: ignore[method-assign]
 
 
-@graded(points=1, after=("start_rrbot_activates_controllers",), hint=(
+@graded(points=1, after=("test_start_rrbot_activates_controllers",), hint=(
     "When a step after the system came up fails (a controller that cannot load, configure or activate), "
     "start_rrbot() shuts the system down and re-raises the error: no half-started system is left running.",
     "Wrap the steps after rw.bringup() in try/except: system.shutdown(), then `raise` (the same exception).",
@@ -882,7 +882,7 @@ def test_failure_half_way_leaves_nothing_running(start: Callable[..., rw.System]
         )
 
 
-@graded(points=3, after=("start_rrbot_activates_controllers",), hint=(
+@graded(points=3, after=("test_start_rrbot_activates_controllers",), hint=(
     "With the mock and forward_position_controller active, [0.7, 0.7] published on "
     "/forward_position_controller/commands is the joints' position on /joint_states 0.1 s later.",
     "system.publish(topic, Float64MultiArray(data=[...])), then system.spin(0.1); the mock copies each command to "
@@ -901,7 +901,7 @@ def test_forward_command_reaches_the_joints(start: Callable[..., rw.System]) -> 
     )
 
 
-@graded(points=1, after=("forward_command_reaches_the_joints",), hint=(
+@graded(points=1, after=("test_forward_command_reaches_the_joints",), hint=(
     "Any command within the limits reaches the joints, in the order of the controller's joints: the first number "
     "is joint1's, the second joint2's.",
     "The order of forward_position_controller's joints in the YAML is the order of the numbers in each command.",
@@ -956,7 +956,7 @@ def _trajectory_system(start: Callable[..., rw.System]) -> rw.System:
     return system
 
 
-@graded(points=4, after=("start_rrbot_activates_controllers",), hint=(
+@graded(points=4, after=("test_start_rrbot_activates_controllers",), hint=(
     "The trajectory controller driving the robot, fed by the test goal publisher (a goal every 6 s, reached in 3 s), "
     "moves the joints to [0.785, 0.785], [0, 0], [-0.785, -0.785], [0, 0] in turn, each within 1 mrad.",
     "The trajectory controller needs joints [joint1, joint2], command_interfaces [position] and state_interfaces "

@@ -699,8 +699,11 @@ def _case(problem: str, when: str, where: str, done: list[str]) -> str:
 
 
 #: The answers the generated sequences compare: when one of their checks fails, so may the sequences.
-_COMPARED = ("update_order", "hardware_states", "available_interfaces", "claimable_command_interfaces",
-             "controller_update_rates", "claimant_of", "state_interfaces_read_by", "reference_interfaces_of")
+_COMPARED = (
+    "test_update_order", "test_hardware_states", "test_available_interfaces", "test_claimable_command_interfaces",
+    "test_controller_update_rates", "test_claimant_of", "test_state_interfaces_read_by",
+    "test_reference_interfaces_of",
+)
 
 
 @graded(points=2, after=_COMPARED, hint=(

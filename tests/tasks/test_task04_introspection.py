@@ -320,7 +320,7 @@ def test_loaded_controllers(answers: ModuleType) -> None:
                   _answer(answers, "loaded_controllers", system.controller_manager), want, order="listed")
 
 
-@graded(points=2, after=("loaded_controllers",), hint=(
+@graded(points=2, after=("test_loaded_controllers",), hint=(
     "Task 4.2: each loaded controller's lifecycle state as a label: 'unconfigured' when only loaded, 'inactive' "
     "when configured but not running, 'active' when running.",
     "Each entry of cm.list_controllers() has .name and .state (already the label, a string).",
@@ -456,7 +456,7 @@ def _strict(strictness: Any) -> bool:
         return False
 
 
-@graded(points=1, after=("switch_between",), hint=(
+@graded(points=1, after=("test_switch_between",), hint=(
     "Task 4.5: the swap is ONE strict switch with both lists, as `ros2 control switch_controllers --deactivate old "
     "--activate new --strict`: two calls leave the robot without a controller in between or are rejected, and a "
     "best-effort switch could do half of it.",
@@ -480,7 +480,7 @@ def test_switch_is_one_strict_step(answers: ModuleType) -> None:
     )
 
 
-@graded(points=1, after=("switch_between", "switch_is_one_strict_step"), hint=(
+@graded(points=1, after=("test_switch_between", "test_switch_is_one_strict_step"), hint=(
     "Task 4.5: a switch the controller manager rejects raises SwitchError, and nothing changes: switch_between "
     "must let the error through, not catch it, retry or return states as if it had worked.",
     "A strict cm.switch_controllers raises rw.SwitchError when any part is impossible (here: the new controller "
@@ -532,7 +532,7 @@ def test_conflict_names(answers: ModuleType) -> None:
         _dict_of_lists(f"on the '{kind}' system, activate_all_at_once()", got, names)
 
 
-@graded(points=1, after=("conflict_names",), hint=(
+@graded(points=1, after=("test_conflict_names",), hint=(
     "Task 4.6: when nothing conflicts, the switch goes through: the inactive controllers are now active and both "
     "lists are empty.",
     "If cm.switch_controllers raises nothing, the answer is {\"interfaces\": [], \"controllers\": []}.",
@@ -549,7 +549,7 @@ def test_switch_that_goes_through(answers: ModuleType) -> None:
           {JSB: "active", FORWARD: "active"})
 
 
-@graded(points=2, after=("conflict_names",), hint=(
+@graded(points=2, after=("test_conflict_names",), hint=(
     "Task 4.6: a rejected strict switch changes nothing. Ask for all the inactive controllers in ONE strict "
     "switch_controllers call (strictness=\"strict\") and do not retry them one by one: the controller states and "
     "the claimed interfaces must be the same afterwards.",
@@ -744,8 +744,10 @@ def _case(problem: str, when: str, where: str, done: list[str]) -> str:
     return text
 
 
-@graded(points=2, after=("loaded_controllers", "controller_states", "hardware_component_states", "available_interfaces",
-                          "interfaces_in_use"), hint=(
+@graded(points=2, after=(
+    "test_loaded_controllers", "test_controller_states", "test_hardware_component_states", "test_available_interfaces",
+    "test_interfaces_in_use",
+), hint=(
     "Tasks 4.1-4.4 and 4.7 after any sequence of load, configure, activate, deactivate, cleanup, unload and hardware "
     "state changes: each answer must be what list_controllers(), list_hardware_components() and "
     "list_hardware_interfaces() say at that moment. The reason shows the shortest sequence where yours differs.",

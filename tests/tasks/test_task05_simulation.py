@@ -210,7 +210,7 @@ def test_task2_choice_without_the_simulator(task_file: Callable[[int, str], Path
         _check_choice(path, args)
 
 
-@graded(after=("simulator_selected",), points=1, hint=(
+@graded(after=("test_simulator_selected",), points=1, hint=(
     "Task 5.1: the macro rrbot_ros2_control itself takes a parameter sim_mujoco, default false: an xacro argument is "
     "read in rrbot.urdf.xacro and handed to the macro, so the macro also works when another file calls it.",
     "params=\"name prefix use_mock_hardware:=false mock_sensor_commands:=false sim_mujoco:=false\" on the "
@@ -245,7 +245,7 @@ def test_macro_parameter(task_file: Callable[[int, str], Path]) -> None:
             assert plugins[0] == expected, f"{where} selects '{plugins[0]}'; the task asks for '{expected}'"
 
 
-@graded(after=("simulator_selected", "task2_choice_without_the_simulator"), points=1, hint=(
+@graded(after=("test_simulator_selected", "test_task2_choice_without_the_simulator"), points=1, hint=(
     "Task 5.1: every combination of sim_mujoco, use_mock_hardware, mock_sensor_commands and prefix, given as true/false "
     "or as the strings a launch file passes, must select the hardware the rule says.",
     "The rule: sim_mujoco true -> MujocoSystem; else use_mock_hardware true -> GenericSystem (mock_sensor_commands "
@@ -285,7 +285,7 @@ def test_hardware_choice_generated(task_file: Callable[[int, str], Path]) -> Non
 # --------------------------------------------------------------------------------------------- 5.2 physics
 
 
-@graded(after=("simulator_selected",), points=3, hint=(
+@graded(after=("test_simulator_selected",), points=3, hint=(
     "Task 5.2: in physics the trajectory controller must reach each of the workshop's goals within 0.02 rad: the "
     "motors need enough torque to hold link2 up against gravity (0.5 kg at 0.3 m is about 1.5 N m) and to move it.",
     "The simulator limits each motor's torque to its joint's <limit effort>; 1 N m is too little. Look at joint2's "
@@ -305,7 +305,7 @@ def test_goals_reached_in_physics(task_file: Callable[[int, str], Path]) -> None
                 "rrbot_macro.xacro enough to hold link2 against gravity?")
 
 
-@graded(after=("simulator_selected",), points=1, hint=(
+@graded(after=("test_simulator_selected",), points=1, hint=(
     "Task 5: with no controller commanding them the simulated joints are passive and the arm falls under gravity "
     "(joint2 goes down, towards its lower limit).",
     "It needs your description to select the simulator (5.1) and the links' masses of task 1; notebook 05 shows the fall.",
@@ -319,7 +319,7 @@ def test_falls_under_gravity(task_file: Callable[[int, str], Path]) -> None:
                                "link2 should fall (joint2 below -0.5 rad)")
 
 
-@graded(after=("simulator_selected",), points=1, hint=(
+@graded(after=("test_simulator_selected",), points=1, hint=(
     "Task 5: the simulation runs in lockstep with the controller manager: two runs give the same trajectory, bit for "
     "bit.",
     "Nothing in your files should depend on the wall clock or on randomness.",
@@ -421,7 +421,7 @@ def test_bringup_default(task_file: Callable[[int, str], Path]) -> None:
     _check_up(_up(_start(task_file)), JTC, FWD, "start_rrbot_sim()")
 
 
-@graded(after=("bringup_default",), points=1, hint=(
+@graded(after=("test_bringup_default",), points=1, hint=(
     "Task 5.3: robot_controller='forward_position_controller' makes the forward controller the active one and leaves "
     "the trajectory controller loaded and inactive.",
     "Use the argument, not a fixed name: the other controller is the one of ROBOT_CONTROLLERS that is not "
@@ -435,7 +435,7 @@ def test_bringup_robot_controller_argument(task_file: Callable[[int, str], Path]
               "start_rrbot_sim(robot_controller='joint_trajectory_controller')")
 
 
-@graded(after=("bringup_default",), points=1, hint=(
+@graded(after=("test_bringup_default",), points=1, hint=(
     "Task 5.3: the joint state broadcaster is active first (or in the same switch as the robot controller), never "
     "after the robot controller, as the original's spawners order them.",
     "Activate the broadcaster in rw.bringup's spawn (or its own switch) before, or together with, the robot controller.",
@@ -464,7 +464,7 @@ def test_broadcaster_not_after_the_robot_controller(task_file: Callable[[int, st
                     pytrace=False)
 
 
-@graded(after=("bringup_default",), points=1, hint=(
+@graded(after=("test_bringup_default",), points=1, hint=(
     "Task 5.3: a robot_controller that is not one of ROBOT_CONTROLLERS is refused with ParameterError, and no system "
     "is left running.",
     "ParameterError(owner, parameter, message) from rrbot_workshop.exceptions, e.g. owner 'start_rrbot_sim', parameter "
@@ -523,7 +523,7 @@ def _configure_fails(name: str) -> Iterator[list[str]]:
         ControllerLifecycle.configure = original  # type: ignore[method-assign]
 
 
-@graded(after=("bringup_default",), points=1, hint=(
+@graded(after=("test_bringup_default",), points=1, hint=(
     "Task 5.3: if a step fails once the system is up (a controller that does not configure), start_rrbot_sim() shuts "
     "the system down and raises: nothing is left running.",
     "Wrap the steps after rw.bringup in try/except: system.shutdown(), then raise again (rw.bringup already does this "

@@ -402,7 +402,7 @@ def _broken(joint: str, old: str, new: str) -> str:
     return _edit(_urdf(), "joint", joint, old, new)
 
 
-@graded(points=2, after=("init_accepts_rrbot",), hint=(
+@graded(points=2, after=("test_init_accepts_rrbot",), hint=(
     "Task 7.1: on_init refuses a joint whose command interfaces are not exactly position and velocity, or whose state "
     "interfaces lack position or velocity: on every joint, not only joint1.",
     _INIT_HINTS[1],
@@ -417,7 +417,7 @@ def test_init_refuses_joint_interfaces(driver: type) -> None:
                           "it, so on_init must return ERROR")
 
 
-@graded(points=1, after=("init_accepts_rrbot",), hint=(
+@graded(points=1, after=("test_init_accepts_rrbot",), hint=(
     "Task 7.1: the device has one force-torque sensor and one set of I/Os: on_init refuses a second <sensor> and a "
     "second <gpio>, each on its own.",
     "len(info.sensors) and len(info.gpios).",
@@ -444,7 +444,7 @@ class _Records(logging.Handler):
         self.records.append(record)
 
 
-@graded(points=1, after=("init_refuses_joint_interfaces",), hint=(
+@graded(points=1, after=("test_init_refuses_joint_interfaces",), hint=(
     "Task 7.1: when on_init refuses a description it logs why, naming the joint.",
     "self.logger is the component's logger: self.logger.error('...%s...', joint.name).",
     "self.logger.error(\"joint '%s' has command interfaces %s; the device takes position and velocity\", joint.name, "
@@ -475,7 +475,7 @@ def _two(element: str) -> str:
     return urdf.replace(block, block + block.replace(name, f"second_{name}"))
 
 
-@graded(points=1, after=("init_refuses_joint_interfaces", "init_refuses_a_second_sensor_or_gpio"), hint=(
+@graded(points=1, after=("test_init_refuses_joint_interfaces", "test_init_refuses_a_second_sensor_or_gpio"), hint=(
     "Task 7.1: on_init refuses as the TODO says: it logs why and returns CallbackReturn.ERROR. Not FAILURE (a "
     "different outcome in ros2_control's lifecycle), and not an exception (the resource manager would only see that "
     "something went wrong, not what).",
@@ -504,7 +504,7 @@ def test_init_refusal_returns_error(driver: type) -> None:
 # --------------------------------------------------------------------------------------------- 7.2 lifecycle
 
 
-@graded(points=2, after=("init_accepts_rrbot",), hint=(
+@graded(points=2, after=("test_init_accepts_rrbot",), hint=(
     "Task 7.2: on_configure opens the device, sized to the description's joints (one degree of freedom per <joint>), "
     "and fills the states once, so they show the robot before any cycle runs (joints at 0.1 rad, at rest); the device "
     "does not move yet. Configured again after a cleanup, it opens a new device.",
@@ -550,7 +550,7 @@ def _check_opened(rig: Rig, joints: list[str], what: str, when: str) -> None:
             "the states once in on_configure")
 
 
-@graded(points=1, after=("configure_opens_the_device",), hint=(
+@graded(points=1, after=("test_configure_opens_the_device",), hint=(
     "Task 7.2-7.3: the driver comes up as the resource manager brings it up (on_init, on_configure, on_activate "
     "return SUCCESS) and runs cycles of read and write that return OK.",
     "Each callback returns CallbackReturn.SUCCESS; read and write return ReturnType.OK while the device works.",
@@ -560,7 +560,7 @@ def test_driver_comes_up(driver: type) -> None:
     _rig(driver).cycle(n=3)
 
 
-@graded(points=1, after=("driver_comes_up",), hint=(
+@graded(points=1, after=("test_driver_comes_up",), hint=(
     "Task 7.2: the device measures no torque, so each joint's effort state reads NaN (unknown), never another value "
     "(the original copied the acceleration there).",
     "The description gives effort an initial_value of 0.0: set it to math.nan in on_configure and never write it.",
@@ -578,7 +578,7 @@ def test_effort_reads_nan(driver: type) -> None:
         rig.cycle()
 
 
-@graded(points=2, after=("driver_comes_up",), hint=(
+@graded(points=2, after=("test_driver_comes_up",), hint=(
     "Task 7.2: on_activate enables the device's movement and sets every joint's position and velocity commands to the "
     "current state, so a controller taking over (or none) does not make the robot jump, in either mode.",
     "self.device.init(); positions, velocities, _ = self.device.read_joint_states(); self.set_command(...) for each "
@@ -613,7 +613,7 @@ def test_activate_without_a_jump(driver: type) -> None:
                 f"and velocity {vc}; they must be the current state ({positions[i]:.3f} rad, {velocities[i]} rad/s)")
 
 
-@graded(points=1, after=("driver_comes_up",), hint=(
+@graded(points=1, after=("test_driver_comes_up",), hint=(
     "Task 7.2: on_deactivate disables the device's movement; a later on_activate enables it again.",
     "RRBotDevice.stop() disables movement, init() enables it; device.movement_enabled tells which.",
     "def on_deactivate(self, previous_state): self.device.stop(); return CallbackReturn.SUCCESS",
@@ -624,11 +624,14 @@ def test_deactivate_disables_movement(driver: type) -> None:
         before = rig.component.last_error
         if rig.component.deactivate() is not State.INACTIVE:
             _fail(_failed("on_deactivate", rig.component, before))
-        assert not _device(rig).movement_enabled, f"after deactivate (time {round_}) the device's movement is still enabled"
+        assert not _device(rig).movement_enabled, (
+            f"after deactivate (time {round_}) the device's movement is still enabled")
         rig.component.activate()
 
 
-@graded(points=1, after=("driver_comes_up", "mode_follows_the_controllers", "device_failure_reported"), hint=(
+@graded(points=1, after=(
+    "test_driver_comes_up", "test_mode_follows_the_controllers", "test_device_failure_reported",
+), hint=(
     "Task 7.2: at configure no controller holds a command interface yet: configured again after a cleanup, or after "
     "a failure (the controller manager then stops the controllers without a mode switch), the driver forgets the "
     "claims it remembered.",
@@ -673,7 +676,7 @@ def _joints_swapped() -> str:
     return urdf.replace(first, marker).replace(second, first).replace(marker, second)
 
 
-@graded(points=3, after=("driver_comes_up",), hint=(
+@graded(points=3, after=("test_driver_comes_up",), hint=(
     "Task 7.3: read gives each joint its own position and velocity from the device; write sends each joint's position "
     "and velocity commands for the period that passed (whatever the controller manager's rate), joint i of the device "
     "being the description's i-th <joint>.",
@@ -731,7 +734,7 @@ def test_joint_states_and_commands(driver: type) -> None:
             f"{[round(q, 3) for q in got]}; at the device's 0.5 rad/s they should be at [0.3, -0.2] (within 0.01 rad)")
 
 
-@graded(points=1, after=("driver_comes_up",), hint=(
+@graded(points=1, after=("test_driver_comes_up",), hint=(
     "Task 7.3: each joint's acceleration state (RRBot declares one) carries the device's acceleration of that joint.",
     "The third list of self.device.read_joint_states().",
     "if f'{joint}/acceleration' in self.state_interface_names: self.set_state(f'{joint}/acceleration', a)",
@@ -751,7 +754,7 @@ def test_acceleration_states(driver: type) -> None:
                     f"{joint}'s acceleration state reads {a}; the device's is {accelerations[i]}")
 
 
-@graded(points=2, after=("driver_comes_up",), hint=(
+@graded(points=2, after=("test_driver_comes_up",), hint=(
     "Task 7.3: the sensor's states carry the device's sensor values, value i on the sensor's i-th state interface, "
     "whatever the sensor is called; they change every second of device time.",
     "sensor = self.info.sensors[0]; self.device.read_sensor_values(len(sensor.state_interfaces)) in every read.",
@@ -785,7 +788,7 @@ def _spy_inputs(device: RRBotDevice) -> list[list[bool]]:
     return calls
 
 
-@graded(points=1, after=("driver_comes_up",), hint=(
+@graded(points=1, after=("test_driver_comes_up",), hint=(
     "Task 7.3: read gives the GPIO's states from the device: each digital_in_N is input N, each digital_out_N reads "
     "back output N, as 1.0 or 0.0, in every read, also while the component is inactive (read runs then too).",
     "inputs, outputs = self.device.read_gpio(); the GPIO is self.info.gpios[0]; N is the number at the end of the "
@@ -820,7 +823,7 @@ def test_gpio_states(driver: type) -> None:
         assert all(s == {0.0, 1.0} for s in seen.values()), f"the digital inputs never changed over 24 reads: {seen}"
 
 
-@graded(points=2, after=("driver_comes_up",), hint=(
+@graded(points=2, after=("test_driver_comes_up",), hint=(
     "Task 7.3: write sets each output N from its digital_out_N command: above 0.5 is on, 0.5 and below off; NaN is no "
     "command, so the output keeps what it was, on or off.",
     "In write: _, outputs = self.device.read_gpio(); change outputs[N - 1] for each commanded digital_out_N (skip "
@@ -944,7 +947,7 @@ def _refusal_run(driver: type) -> list[str]:
     return problems
 
 
-@graded(points=3, after=("driver_comes_up",), hint=(
+@graded(points=3, after=("test_driver_comes_up",), hint=(
     "Task 7.4: the device follows the controllers: a velocity controller puts it in VELOCITY mode, a position "
     "controller back in POSITION, also when only one joint is commanded; a controller of the GPIO outputs is no "
     "joint mode.",
@@ -959,7 +962,7 @@ def test_mode_follows_the_controllers(driver: type) -> None:
     assert not problems, problems[0] if problems else ""
 
 
-@graded(points=3, after=("driver_comes_up", "mode_follows_the_controllers"), hint=(
+@graded(points=3, after=("test_driver_comes_up", "test_mode_follows_the_controllers"), hint=(
     "Task 7.4: a switch after which position and velocity would both be commanded is refused by the hardware, whether "
     "one controller asks for both or two controllers (or two joints) would mix them; nothing changes then.",
     "In prepare_command_mode_switch: claimed_after = (claimed now - set(stop_interfaces)) | this component's joint "
@@ -971,7 +974,7 @@ def test_mixed_modes_refused(driver: type) -> None:
     assert not problems, "; ".join(problems)
 
 
-@graded(points=1, after=("mixed_modes_refused",), hint=(
+@graded(points=1, after=("test_mixed_modes_refused",), hint=(
     "Task 7.4: a refusal gives its reason and returns ERROR. ros2_control's controller manager only says that the "
     "hardware refused the switch, so a driver logs why; this course's also shows self.mode_switch_rejection in the "
     "switch error.",
@@ -994,7 +997,7 @@ def test_refusal_gives_a_reason(driver: type) -> None:
 _DEVICE_CALLS = ("read_joint_states", "read_sensor_values", "read_gpio", "write_joint_commands", "write_gpios")
 
 
-@graded(points=2, after=("driver_comes_up",), hint=(
+@graded(points=2, after=("test_driver_comes_up",), hint=(
     "Task 7.3: when the device fails in any call, read or write says so (lets the exception through, or returns "
     "ERROR); the resource manager then takes the component out. Do not swallow it.",
     "No try/except around the device's calls that returns OK.",
@@ -1022,7 +1025,7 @@ def test_device_failure_reported(driver: type) -> None:
                            "nothing happened (the component stayed active); read and write must report it")
 
 
-@graded(points=1, after=("configure_opens_the_device",), hint=(
+@graded(points=1, after=("test_configure_opens_the_device",), hint=(
     "Task 7.2: the hardware parameter 'seed' (default 0) seeds the device: its sensor values depend on it.",
     "self.info.hardware_parameters is a dict of the <hardware><param> values, as strings.",
     "RRBotDevice(len(self.joints), seed=int(self.info.hardware_parameters.get('seed', '0')))",
@@ -1074,7 +1077,7 @@ def test_yaml_defines_the_incompatible_controller(task_file: Callable[[int, str]
     assert not problems, f"{YAML}: {BAD}: {'; '.join(problems)}"
 
 
-@graded(points=1, after=("yaml_defines_the_incompatible_controller",), hint=(
+@graded(points=1, after=("test_yaml_defines_the_incompatible_controller",), hint=(
     "Task 7.5: with your YAML, the RRBot driver refuses incompatible_joint_trajectory_controller, and the YAML's other "
     "controllers still come up.",
     "The YAML keeps joint_state_broadcaster, forward_position_controller, forward_velocity_controller and "
@@ -1265,9 +1268,12 @@ _KNOWN_SEQUENCES: tuple[list[tuple[Any, ...]], ...] = (
 
 
 #: The checks whose rules the generated sequences also exercise: when one of them fails, so may the comparison.
-_COMPARED_RULES = ("driver_comes_up", "effort_reads_nan", "activate_without_a_jump", "deactivate_disables_movement",
-                   "joint_states_and_commands", "acceleration_states", "sensor_values", "gpio_states", "gpio_outputs",
-                   "mode_follows_the_controllers", "mixed_modes_refused", "configure_opens_the_device")
+_COMPARED_RULES = (
+    "test_driver_comes_up", "test_effort_reads_nan", "test_activate_without_a_jump",
+    "test_deactivate_disables_movement", "test_joint_states_and_commands", "test_acceleration_states",
+    "test_sensor_values", "test_gpio_states", "test_gpio_outputs", "test_mode_follows_the_controllers",
+    "test_mixed_modes_refused", "test_configure_opens_the_device",
+)
 
 
 @graded(points=2, after=_COMPARED_RULES, hint=(

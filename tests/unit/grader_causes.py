@@ -1,6 +1,6 @@
 """What a grader's checks build on (``graded(after=...)``), and the causes a graded variant's failures come down to.
 
-A check marked ``after=("other",)`` builds on the rule of ``other``: when both fail, the learner's cause is in
+A check marked ``after=("test_other",)`` builds on the rule of ``test_other``: when both fail, the learner's cause is in
 ``other``, and the runner shows hints only there. So a wrong solution with one slip must come down to one cause: of
 its failing checks, exactly one builds on no other failing check. A test of each grader asserts it for its wrong
 variants (see :func:`assert_one_cause`), and that every ``after`` names a check of the same grader.
@@ -35,15 +35,20 @@ def check_specs(task: int) -> Mapping[str, CheckSpec]:
             if attr.startswith("test_") and callable(func)}
 
 
+def _after(spec: CheckSpec) -> tuple[str, ...]:
+    """The check names ``spec`` builds on, as the rubric names checks (the test function's name without ``test_``)."""
+    return tuple(name.removeprefix("test_") for name in spec.after)
+
+
 def _builds_on(name: str, specs: Mapping[str, CheckSpec]) -> set[str]:
     """Every check ``name`` builds on, directly or through others."""
     seen: set[str] = set()
-    todo = list(specs[name].after) if name in specs else []
+    todo = list(_after(specs[name])) if name in specs else []
     while todo:
         other = todo.pop()
         if other not in seen:
             seen.add(other)
-            todo.extend(specs[other].after if other in specs else ())
+            todo.extend(_after(specs[other]) if other in specs else ())
     return seen
 
 
@@ -63,4 +68,5 @@ def assert_one_cause(rubric: Rubric, specs: Mapping[str, CheckSpec], name: str =
 
 def unknown_after(specs: Mapping[str, CheckSpec]) -> list[str]:
     """``after`` entries that name no check of the grader (a typo would silently show hints again)."""
-    return [f"{name} after {other}" for name, spec in specs.items() for other in spec.after if other not in specs]
+    return [f"{name} after {other}" for name, spec in specs.items() for other in spec.after
+            if not other.startswith("test_") or other.removeprefix("test_") not in specs]
