@@ -120,11 +120,6 @@ def _read_yaml(path: Path) -> dict[str, Any]:
     return data
 
 
-@pytest.fixture(scope="module")
-def controllers_yaml(controllers_file: Path) -> dict[str, Any]:
-    return _read_yaml(controllers_file)
-
-
 def _import_bringup(path: Path, name: str) -> ModuleType:
     spec = importlib.util.spec_from_file_location(name, path)
     assert spec is not None and spec.loader is not None, f"{BRINGUP} cannot be loaded as a Python module"
@@ -439,6 +434,40 @@ def _declared(cfg: ControllersConfig) -> list[str]:
     return sorted(names)
 
 
+_MANAGER_KEYS = ("controller_manager", "/controller_manager", "/**/controller_manager")
+
+
+@functools.cache
+def _composed(path: Path) -> Any:
+    try:
+        return yaml.compose(path.read_text())
+    except yaml.YAMLError:
+        return None
+
+
+def _at(path: Path, sections: tuple[str, ...], *keys: str) -> str:
+    """``"rrbot_controllers.yaml, line N"``: where the learner wrote ``<section>: ros__parameters: <keys...>`` (the
+    deepest of them that is there), or the file's name alone."""
+    node, line = _composed(path), None
+    if isinstance(node, yaml.MappingNode):
+        for key_node, value in node.value:
+            if key_node.value in sections:
+                line, node = key_node.start_mark.line + 1, value
+                for key in ("ros__parameters", *keys):
+                    found = next(((k, v) for k, v in node.value if k.value == key), None) \
+                        if isinstance(node, yaml.MappingNode) else None
+                    if found is None:
+                        break
+                    line, node = found[0].start_mark.line + 1, found[1]
+                break
+    return f"{path.name}, line {line}" if line else path.name
+
+
+def _section(cfg: ControllersConfig, name: str) -> tuple[str, ...]:
+    """The keys under which the controller ``name``'s own section may be written."""
+    return (cfg.section_names().get(name, name), name, f"/{name}", f"/**/{name}")
+
+
 def _params(cfg: ControllersConfig, name: str) -> dict[str, Any]:
     params = {k: v for k, v in cfg.parameters_for(name).items() if k != "type"}
     if not params:
@@ -447,57 +476,68 @@ def _params(cfg: ControllersConfig, name: str) -> dict[str, Any]:
     return params
 
 
-def _check_update_rate(data: dict[str, Any]) -> None:
-    rate = _manager_parameters(data).get("update_rate")
-    assert rate is not None, "rrbot_controllers.yaml: controller_manager sets no update_rate"
+def _check_update_rate(path: Path) -> None:
+    rate = _manager_parameters(_read_yaml(path)).get("update_rate")
+    where = _at(path, _MANAGER_KEYS, "update_rate")
+    assert rate is not None, f"{where}: controller_manager sets no update_rate"
     assert isinstance(rate, int) and not isinstance(rate, bool), (
-        f"rrbot_controllers.yaml: update_rate is {rate!r}; Jazzy's controller manager takes an integer (100, not 100.0)"
+        f"{where}: update_rate is {rate!r}; Jazzy's controller manager takes an integer (100, not 100.0)"
     )
-    assert rate == 100, f"rrbot_controllers.yaml: update_rate is {rate!r}; the task says 100 [Hz]"
+    assert rate == 100, f"{where}: update_rate is {rate!r}; the task says 100 [Hz]"
 
 
-def _check_types(cfg: ControllersConfig) -> None:
+def _check_types(path: Path) -> None:
+    cfg = _config(path)
     for name, expected in TYPES.items():
         found = _type_of(cfg, name)
         assert found is not None, (
             f"rrbot_controllers.yaml declares no '{name}' with a 'type' (declared: {_declared(cfg)}); give it one "
             "under controller_manager's ros__parameters (or in its own section)"
         )
-        assert found == expected, f"rrbot_controllers.yaml: '{name}' has type '{found}'; the task says '{expected}'"
+        where = _at(path, _MANAGER_KEYS, name, "type")
+        if cfg.controller_types.get(name) is None:
+            where = _at(path, _section(cfg, name), "type")
+        assert found == expected, f"{where}: '{name}' has type '{found}'; the task says '{expected}'"
 
 
-def _check_forward(cfg: ControllersConfig) -> None:
+def _check_forward(path: Path) -> None:
+    cfg = _config(path)
     params = _params(cfg, FPC)
     assert params.get("joints") == JOINTS, (
-        f"rrbot_controllers.yaml: {FPC} joints are {params.get('joints')!r}; the task says {JOINTS}, in that order"
+        f"{_at(path, _section(cfg, FPC), 'joints')}: {FPC} joints are {params.get('joints')!r}; the task says "
+        f"{JOINTS}, in that order"
     )
     assert params.get("interface_name") == "position", (
-        f"rrbot_controllers.yaml: {FPC} interface_name is {params.get('interface_name')!r}; the task says 'position'"
+        f"{_at(path, _section(cfg, FPC), 'interface_name')}: {FPC} interface_name is "
+        f"{params.get('interface_name')!r}; the task says 'position'"
     )
 
 
-def _check_trajectory_interfaces(cfg: ControllersConfig) -> None:
+def _check_trajectory_interfaces(path: Path) -> None:
+    cfg = _config(path)
     params = _params(cfg, JTC)
     for key, expected in (("joints", JOINTS), ("command_interfaces", ["position"]),
                           ("state_interfaces", ["position", "velocity"])):
         assert params.get(key) == expected, (
-            f"rrbot_controllers.yaml: {JTC} {key} is {params.get(key)!r}; the task says {expected}"
+            f"{_at(path, _section(cfg, JTC), key)}: {JTC} {key} is {params.get(key)!r}; the task says {expected}"
         )
 
 
-def _check_trajectory_constraints(cfg: ControllersConfig) -> None:
+def _check_trajectory_constraints(path: Path) -> None:
+    cfg = _config(path)
     params = _params(cfg, JTC)
     assert params.get("allow_partial_joints_goal") is False, (
-        f"rrbot_controllers.yaml: {JTC} allow_partial_joints_goal is {params.get('allow_partial_joints_goal')!r}; the "
-        "task says false"
+        f"{_at(path, _section(cfg, JTC), 'allow_partial_joints_goal')}: {JTC} allow_partial_joints_goal is "
+        f"{params.get('allow_partial_joints_goal')!r}; the task says false"
     )
     constraints = params.get("constraints")
-    assert isinstance(constraints, dict), f"rrbot_controllers.yaml: {JTC} has no 'constraints:' mapping"
+    assert isinstance(constraints, dict), f"{_at(path, _section(cfg, JTC))}: {JTC} has no 'constraints:' mapping"
     for key, expected in (("stopped_velocity_tolerance", 0.01), ("goal_time", 0.0)):
         value = constraints.get(key)
         assert isinstance(value, int | float) and not isinstance(value, bool) and math.isclose(
             value, expected, abs_tol=1e-9), (
-            f"rrbot_controllers.yaml: {JTC} constraints.{key} is {value!r}; the task says {expected}"
+            f"{_at(path, _section(cfg, JTC), 'constraints', key)}: {JTC} constraints.{key} is {value!r}; the task "
+            f"says {expected}"
         )
 
 
@@ -526,7 +566,8 @@ def _as_stated(cfg: ControllersConfig) -> ControllersConfig:
     return out
 
 
-def _check_jazzy_parameters(cfg: ControllersConfig) -> None:
+def _check_jazzy_parameters(path: Path) -> None:
+    cfg = _config(path)
     names = _declared(cfg)
     missing = sorted(set(TYPES) - set(names))
     assert not missing, (
@@ -543,7 +584,8 @@ def _check_jazzy_parameters(cfg: ControllersConfig) -> None:
             listener = cm.get_controller(name).param_listener
             unused = listener.undeclared if listener is not None else []
             assert not unused, (
-                f"rrbot_controllers.yaml: '{name}' does not declare the parameter(s) {unused} in Jazzy; remove them"
+                f"{_at(path, _section(cfg, name), unused[0])}: '{name}' does not declare the parameter(s) {unused} in "
+                "Jazzy; remove them"
             )
     finally:
         system.shutdown()
@@ -554,11 +596,9 @@ def _yaml_fault(controllers_file: Path) -> str:
     """Why the YAML breaks a rule the task states, or ""; the bringup's checks then run on the library's RRBot YAML
     (this file's own checks judge the YAML)."""
     try:
-        _check_update_rate(_read_yaml(controllers_file))
-        cfg = _config(controllers_file)
-        for check in (_check_types, _check_forward, _check_trajectory_interfaces, _check_trajectory_constraints,
-                      _check_jazzy_parameters):
-            check(cfg)
+        for check in (_check_update_rate, _check_types, _check_forward, _check_trajectory_interfaces,
+                      _check_trajectory_constraints, _check_jazzy_parameters):
+            check(controllers_file)
     except AssertionError as exc:
         return str(exc)
     return ""
@@ -569,8 +609,8 @@ def _yaml_fault(controllers_file: Path) -> str:
     "controller_manager: ros__parameters: update_rate is an integer in [Hz] (Jazzy refuses 100.0).",
     "controller_manager:\n  ros__parameters:\n    update_rate: 100",
 ))
-def test_update_rate(controllers_yaml: dict[str, Any]) -> None:
-    _check_update_rate(controllers_yaml)
+def test_update_rate(controllers_file: Path) -> None:
+    _check_update_rate(controllers_file)
 
 
 @graded(points=2, hint=(
@@ -582,7 +622,7 @@ def test_update_rate(controllers_yaml: dict[str, Any]) -> None:
     "joint_trajectory_controller/JointTrajectoryController}",
 ))
 def test_controller_types(controllers_file: Path) -> None:
-    _check_types(_config(controllers_file))
+    _check_types(controllers_file)
 
 
 @graded(points=1, hint=(
@@ -591,7 +631,7 @@ def test_controller_types(controllers_file: Path) -> None:
     "forward_position_controller:\n  ros__parameters:\n    joints: [joint1, joint2]\n    interface_name: position",
 ))
 def test_forward_position_controller_parameters(controllers_file: Path) -> None:
-    _check_forward(_config(controllers_file))
+    _check_forward(controllers_file)
 
 
 @graded(points=2, hint=(
@@ -601,7 +641,7 @@ def test_forward_position_controller_parameters(controllers_file: Path) -> None:
     "joints: [joint1, joint2]\ncommand_interfaces: [position]\nstate_interfaces: [position, velocity]",
 ))
 def test_joint_trajectory_controller_interfaces(controllers_file: Path) -> None:
-    _check_trajectory_interfaces(_config(controllers_file))
+    _check_trajectory_interfaces(controllers_file)
 
 
 @graded(points=1, after=("test_joint_trajectory_controller_interfaces",), hint=(
@@ -612,7 +652,7 @@ def test_joint_trajectory_controller_interfaces(controllers_file: Path) -> None:
     "allow_partial_joints_goal: false\nconstraints:\n  stopped_velocity_tolerance: 0.01\n  goal_time: 0.0",
 ))
 def test_joint_trajectory_controller_constraints(controllers_file: Path) -> None:
-    _check_trajectory_constraints(_config(controllers_file))
+    _check_trajectory_constraints(controllers_file)
 
 
 @graded(points=1, after=("test_controller_types",), hint=(
@@ -622,7 +662,7 @@ def test_joint_trajectory_controller_constraints(controllers_file: Path) -> None
     "Delete the lines the reason names.",
 ))
 def test_parameters_valid_in_jazzy(controllers_file: Path) -> None:
-    _check_jazzy_parameters(_config(controllers_file))
+    _check_jazzy_parameters(controllers_file)
 
 
 # --------------------------------------------------------------------------------------------- the bringup
