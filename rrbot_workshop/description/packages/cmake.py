@@ -12,13 +12,14 @@ whose :attr:`~CMakeFile.problem` says where it is.
 from __future__ import annotations
 
 import re
+from collections.abc import Collection
 from dataclasses import dataclass, field
+from typing import NamedTuple
 
 __all__ = ["Argument", "Command", "CMakeFile", "parse_cmake"]
 
 
-@dataclass(frozen=True)
-class Argument:
+class Argument(NamedTuple):
     """One argument of a command.
 
     Attributes:
@@ -30,13 +31,13 @@ class Argument:
     quoted: bool = False
 
 
-@dataclass(frozen=True)
-class Command:
+class Command(NamedTuple):
     """One command invocation.
 
     Attributes:
         name: The command's name in lower case (CMake's command names are case-insensitive).
-        arguments: Its arguments in order (parentheses nested inside it are arguments ``(`` and ``)``).
+        arguments: Its arguments in order (parentheses nested inside it group arguments for ``if()``; they are not
+            kept).
         line: Line of the command's name, from 1.
         start: Offset of the name in the text.
         end: Offset just past the closing parenthesis.
@@ -74,6 +75,8 @@ _BRACKET_OPEN = re.compile(r"#?\[(=*+)\[")
 _QUOTED = re.compile(r'"([^"\\]*+(?:\\.[^"\\]*+)*+)"', re.S)
 _UNQUOTED = re.compile(r'(?:[^\s()#"\\]++|\\.)++', re.S)
 _OTHER = re.compile(r"[^\s#]++|#")
+_OPENING = re.compile(r"\(++")
+_CLOSING = re.compile(r"\)++")
 _ESCAPE = re.compile(r"\\(.)", re.S)
 _ESCAPES = {"n": "\n", "t": "\t", "r": "\r", "\n": "", ";": "\\;"}
 
@@ -87,8 +90,9 @@ def _decode(text: str) -> str:
 class _Reader:
     """The reading position over one text: offset and line, moved forward only."""
 
-    def __init__(self, text: str) -> None:
+    def __init__(self, text: str, keep: Collection[str] | None) -> None:
         self.text = text
+        self.keep = keep
         self.pos = 0
         self.line = 1
         self.result = CMakeFile()
@@ -124,22 +128,25 @@ class _Reader:
 
     def arguments(self, name: str, line: int, start: int) -> bool:
         """Read the arguments of the command ``name`` up to its closing parenthesis; False if it is not closed."""
-        text, args, depth = self.text, [], 1
+        text, depth = self.text, 1
+        args: list[Argument] = []
         while self.pos < len(text):
             char = text[self.pos]
             if char in " \t\r\n":
                 self.advance(_SPACE.match(text, self.pos).end())  # type: ignore[union-attr]
-            elif char == "(":
-                depth += 1
-                args.append(Argument("("))
-                self.pos += 1
+            elif char == "(":  # a run of them at once: nesting costs one step per run, not per parenthesis
+                run = _OPENING.match(text, self.pos).end()  # type: ignore[union-attr]
+                depth += run - self.pos
+                self.pos = run
             elif char == ")":
-                depth -= 1
-                self.pos += 1
-                if depth == 0:
-                    self.result.commands.append(Command(name, tuple(args), line, start, self.pos))
+                run = _CLOSING.match(text, self.pos).end()  # type: ignore[union-attr]
+                if run - self.pos >= depth:
+                    self.pos += depth
+                    if self.keep is None or name in self.keep:
+                        self.result.commands.append(Command(name, tuple(args), line, start, self.pos))
                     return True
-                args.append(Argument(")"))
+                depth -= run - self.pos
+                self.pos = run
             elif char == "#":
                 if not self.comment():
                     return False
@@ -166,7 +173,7 @@ class _Reader:
         return False
 
     def read(self) -> CMakeFile:
-        text, n = self.text, len(self.text)
+        text, n, keep, commands = self.text, len(self.text), self.keep, self.result.commands
         while self.pos < n:
             char = text[self.pos]
             if char in " \t\r\n":
@@ -178,9 +185,10 @@ class _Reader:
                 continue
             simple = _SIMPLE.match(text, self.pos)
             if simple is not None:
-                start, line = self.pos, self.line
-                args = tuple(Argument(word) for word in simple.group(2).split())
-                self.result.commands.append(Command(simple.group(1).lower(), args, line, start, simple.end()))
+                name = simple.group(1).lower()
+                if keep is None or name in keep:
+                    args = tuple([Argument(word, False) for word in simple.group(2).split()])
+                    commands.append(Command(name, args, self.line, self.pos, simple.end()))
                 self.advance(simple.end())
                 continue
             named = _NAME.match(text, self.pos)
@@ -198,14 +206,16 @@ class _Reader:
         return self.result
 
 
-def parse_cmake(text: str) -> CMakeFile:
+def parse_cmake(text: str, keep: Collection[str] | None = None) -> CMakeFile:
     """The command invocations of CMake ``text``, in one pass (time proportional to ``len(text)``).
 
     Args:
         text: The content of a ``CMakeLists.txt`` or ``.cmake`` file.
+        keep: Names (lower case) of the commands to return; None returns every command. The others are read all
+            the same (a fault in them is found), only not kept.
 
     Returns:
         The commands read; when the text is not valid CMake, the ones before the fault, and the fault in
         :attr:`CMakeFile.problem` with its line.
     """
-    return _Reader(text).read()
+    return _Reader(text, keep).read()

@@ -262,7 +262,7 @@ def parse_install_rules(cmake_file: Path, package: str) -> tuple[list[InstallRul
     if text is None:
         return [], False
     root = cmake_file.parent
-    parsed = parse_cmake(text)
+    parsed = parse_cmake(text, keep=("project", "set", "unset", "install"))
     variables = _Variables(root, package, budget=4 * len(text) + (1 << 20))
     rules: list[InstallRule] = []
     complete = not parsed.problem
