@@ -27,7 +27,7 @@ reader cannot follow) resolves relative to its source folder.
 **How ``$(find pkg)`` works in xacro.** Xacro pastes the result of ``$(find pkg)`` into text
 (``$(find pkg)/ros2_control/x.xacro``) and opens the file later, so it needs a real folder that looks like the
 installed one. For a source tree with install rules, :func:`share_directory` writes that folder, the *install view*:
-:func:`~rrbot_workshop.description.packages.install_tree.install_tree` replays the rules in memory, in CMake's order
+:func:`~rrbot_workshop.description.packages.installed.install_tree` replays the rules in memory, in CMake's order
 (a later rule overwrites an earlier file; ``RENAME``; a folder or only its contents), and
 :mod:`~rrbot_workshop.description.packages.view` writes the result under this process's own folder
 (``<tmp>/rrbot_workshop_views-<uid>/<pid>-<random>/<n>/share/<pkg>``) as real folders and links to the source
@@ -59,7 +59,7 @@ from rrbot_workshop.description.packages.crawl import (
     use_package_path,
 )
 from rrbot_workshop.description.packages.install_rules import InstallRule, parse_install_rules
-from rrbot_workshop.description.packages.install_tree import InstallTree, install_tree
+from rrbot_workshop.description.packages.installed import InstallTree, install_tree
 from rrbot_workshop.description.packages.resolve import (
     explain_missing,
     package_of,

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from rrbot_workshop.description.packages.crawl import Package, find_package, known_package, package_index
-from rrbot_workshop.description.packages.install_tree import InstallTree, install_tree
+from rrbot_workshop.description.packages.installed import InstallTree, install_tree
 from rrbot_workshop.description.packages.view import build_view
 from rrbot_workshop.exceptions import DescriptionError
 
@@ -164,7 +164,7 @@ def share_directory(package: str | Package,
     Raises:
         DescriptionError: If the package is unknown, its install rules were refused (a DESTINATION that leaves the
             install prefix), two rules install a file and a folder at one path, or the rules install more files
-            than :data:`~rrbot_workshop.description.packages.install_tree.MAX_ENTRIES`.
+            than :data:`~rrbot_workshop.description.packages.installed.MAX_ENTRIES`.
     """
     pkg = package if isinstance(package, Package) else find_package(package, extra)
     pkg.check()

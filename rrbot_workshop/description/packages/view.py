@@ -30,7 +30,7 @@ import tempfile
 import threading
 from pathlib import Path, PurePosixPath
 
-from rrbot_workshop.description.packages.install_tree import InstallTree
+from rrbot_workshop.description.packages.installed import InstallTree
 from rrbot_workshop.exceptions import DescriptionError
 
 __all__ = ["views_parent", "process_folder", "build_view", "remove_stale_views"]
@@ -192,7 +192,7 @@ def build_view(tree: InstallTree) -> Path:
 
     Raises:
         DescriptionError: If the package name or an installed path is not a plain name (never expected from
-            :func:`~rrbot_workshop.description.packages.install_tree.install_tree`), or the view could not be
+            :func:`~rrbot_workshop.description.packages.installed.install_tree`), or the view could not be
             written (the message names the folder).
     """
     name = tree.package

@@ -147,9 +147,8 @@ class _Builder:
                             self._follow(entry, real, target, chain, roots, stack, rule)
                         elif os.path.isfile(real):
                             self.file(target, Path(entry.path), rule, weak)
-                    elif entry.is_dir(follow_symlinks=False):
-                        if len(chain) < MAX_DEPTH:
-                            stack.append((Path(entry.path), target, (*chain, os.path.join(chain[-1], entry.name))))
+                    elif entry.is_dir(follow_symlinks=False):  # below a followed link it may be an ancestor
+                        self._follow(entry, os.path.join(chain[-1], entry.name), target, chain, roots, stack, rule)
                     elif entry.is_file(follow_symlinks=False):
                         self.file(target, Path(entry.path), rule, weak)
                 except OSError:
