@@ -82,10 +82,10 @@ def write_package(folder: Path, name: str, files: dict[str, str], cmake: str | N
     return folder
 
 
-def view_files(view: Path) -> dict[str, str]:
-    """Installed path -> text of every file of an install view, after checking how it is built: every folder a real
+def view_files(view: Path) -> dict[str, bytes]:
+    """Installed path -> content of every file of an install view, after checking how it is built: every folder a real
     folder, every link a link to a file (an AssertionError names the entry that is not)."""
-    out: dict[str, str] = {}
+    out: dict[str, bytes] = {}
     for folder, dirs, files in os.walk(view, followlinks=False):
         for name in dirs:
             path = os.path.join(folder, name)
@@ -93,5 +93,5 @@ def view_files(view: Path) -> dict[str, str]:
         for name in files:
             path = os.path.join(folder, name)
             assert os.path.isfile(path), f"{path} is not a file, nor a link to one"
-            out[os.path.relpath(path, view)] = Path(path).read_text()
+            out[os.path.relpath(path, view)] = Path(path).read_bytes()
     return out

@@ -91,7 +91,7 @@ def test_overlapping_rules_resolve_as_cmake_installs_and_leave_the_package_untou
     src, pkg, installed = _workspace(tmp_path, first, second)
     before = tree_state(tmp_path / "ws")
     view = packages.share_directory(NAME, [src])
-    assert view_files(view) == {rel: (pkg / source).read_text() for rel, source in installed.items()}
+    assert view_files(view) == {rel: (pkg / source).read_bytes() for rel, source in installed.items()}
     for rel, source in installed.items():
         assert packages.resolve(NAME, rel, [src]) == pkg / source
     rate = _expected_rate(installed)
@@ -137,7 +137,7 @@ def test_real_cmake_installs_what_the_view_shows(tmp_path: Path, first: str, sec
                     ["cmake", "--install", str(build), "--prefix", str(prefix)]):
         done = subprocess.run(command, capture_output=True, text=True, timeout=120)
         assert done.returncode == 0, done.stderr
-    installed = {str(p.relative_to(prefix / "share" / NAME)): p.read_text()
+    installed = {str(p.relative_to(prefix / "share" / NAME)): p.read_bytes()
                  for p in (prefix / "share" / NAME).rglob("*") if p.is_file()}
     assert view_files(packages.share_directory(NAME, [src])) == installed
     assert tree_state(src) == before
