@@ -187,6 +187,20 @@ def test_rules_that_install_too_many_files_name_the_rule(tmp_path: Path, monkeyp
         packages.share_directory("bot", [tmp_path])
 
 
+@POSIX_ONLY
+def test_a_rule_that_installs_the_root_folder_stops_at_the_limit(tmp_path: Path,
+                                                                 monkeypatch: pytest.MonkeyPatch) -> None:
+    """``install(DIRECTORY / ...)``: the walk lists at most MAX_ENTRIES folders of the file system, then refuses."""
+    monkeypatch.setattr(installed, "MAX_ENTRIES", 300)
+    _robot(tmp_path, rules=f"install(DIRECTORY / {D})")
+    package = packages.find_package("bot", [tmp_path])
+    scans = _scans(monkeypatch, Path("/"))
+    with pytest.raises(DescriptionError, match=r"more than 300 files and folders \(reached at / -> share/bot"):
+        installed.install_tree(package)
+    monkeypatch.undo()
+    assert scans.calls <= 300
+
+
 def test_a_file_and_a_folder_at_one_installed_path_is_an_error_naming_both_rules(tmp_path: Path) -> None:
     pkg = _robot(tmp_path, rules=f"install(DIRECTORY config {D})\ninstall(FILES urdf/control.xacro {D} RENAME config)")
     with pytest.raises(DescriptionError) as info:
