@@ -288,3 +288,24 @@ def test_a_manifest_naming_a_path_is_not_a_package(tmp_path: Path) -> None:
     write_package(tmp_path / "evil", "../evil", {})
     index = packages.package_index([tmp_path])
     assert "is not a package name" in index.broken[tmp_path / "evil" / "package.xml"]
+
+
+def test_a_folder_that_cannot_be_read_is_one_error_naming_it(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    def denied(entry: Path) -> list[Path]:
+        raise PermissionError(13, "Permission denied", str(entry / "secret"))
+
+    monkeypatch.setattr(crawl, "_walk", denied)
+    with pytest.raises(DescriptionError, match=f"'{tmp_path}' cannot be read: Permission denied .*secret"):
+        packages.package_index([tmp_path])
+
+
+def test_a_view_that_cannot_be_written_is_one_error_naming_the_package(tmp_path: Path,
+                                                                      monkeypatch: pytest.MonkeyPatch) -> None:
+    _robot(tmp_path)
+
+    def full() -> Path:
+        raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr(view, "process_folder", full)
+    with pytest.raises(DescriptionError, match="cannot write the install view of package 'bot' .*No space left"):
+        packages.share_directory("bot", [tmp_path], rebuild=True)

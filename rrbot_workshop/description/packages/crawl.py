@@ -111,7 +111,7 @@ class Package:
         """The first of :meth:`candidates` that is a regular file or a folder, or None (a FIFO or device is never
         taken: reading it could block)."""
         for candidate in self.candidates(relative):
-            if candidate.is_file() or candidate.is_dir():
+            if os.path.isfile(candidate) or os.path.isdir(candidate):  # False, never an error, where it cannot look
                 return candidate
         return None
 
@@ -389,8 +389,8 @@ def package_index(extra: Iterable[str | os.PathLike[str]] | str | os.PathLike[st
     """The packages on :func:`package_path` ``(extra)``, crawled once per path (``refresh`` crawls again).
 
     Raises:
-        DescriptionError: If a path folder is invalid (see :func:`package_path`) or holds more than
-            :data:`MAX_FOLDERS` folders outside packages.
+        DescriptionError: If a path folder is invalid (see :func:`package_path`), cannot be read, or holds more
+            than :data:`MAX_FOLDERS` folders outside packages.
     """
     entries = package_path(extra)
     if not refresh and entries in _CACHE:
@@ -399,7 +399,11 @@ def package_index(extra: Iterable[str | os.PathLike[str]] | str | os.PathLike[st
     index = PackageIndex(entries)
     descriptions = entries[-1]
     for entry in entries:
-        _crawl(entry, index, descriptions=entry == descriptions)
+        try:
+            _crawl(entry, index, descriptions=entry == descriptions)
+        except OSError as exc:  # a folder it may not read (permissions): one line naming it
+            raise DescriptionError(f"package path folder '{entry}' cannot be read: {exc.strerror or exc}"
+                                   f"{f' ({exc.filename})' if exc.filename else ''}", element="package_path") from None
     _CACHE[entries] = index
     return index
 

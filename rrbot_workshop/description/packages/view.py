@@ -200,9 +200,10 @@ def build_view(tree: InstallTree) -> Path:
         raise DescriptionError(f"'{name}' is not a package name that can be a folder", element="package",
                                attribute=name)
     with _LOCK:
-        writer = _Writer(process_folder())
         share = PurePosixPath(str(next(_COUNTER)), "share", name)
+        writer = _Writer(views_parent())
         try:
+            writer = _Writer(process_folder())
             for relative in (share.parents[1], share.parent, share):
                 writer.folder(relative)
             for folder in sorted(tree.folders):
