@@ -273,9 +273,14 @@ def test_a_planted_views_folder_is_never_swept_nor_written(tmp_path: Path, monke
     victim = tmp_path / "victim"
     (victim / "1-abc").mkdir(parents=True)
     view.views_parent().symlink_to(victim)
-    assert view.remove_stale_views() == [] and (victim / "1-abc").is_dir()
-    assert victim not in view.process_folder().parents or view.process_folder() == view.process_folder()
-    assert list(victim.iterdir()) == [victim / "1-abc"]
+    before = tree_state(victim)
+    assert view.remove_stale_views() == []
+    monkeypatch.setattr(view, "_FOLDER", None)
+    _robot(tmp_path / "src")
+    share = packages.share_directory("bot", [tmp_path / "src"], rebuild=True)
+    folder = view.process_folder()
+    assert folder.name.startswith("rrbot_workshop_view-") and folder in share.parents
+    assert not folder.is_relative_to(victim) and tree_state(victim) == before
 
 
 def test_build_view_refuses_a_name_that_is_not_a_folder_name() -> None:
