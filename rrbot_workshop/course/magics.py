@@ -396,9 +396,12 @@ def topic(line: str) -> None:
 
 
 def load_ipython_extension(ipython: Any) -> None:
-    """Register ``%control`` and ``%topic``, and short tracebacks for library errors, in an IPython shell."""
+    """Register ``%control``, ``%topic`` and ``%%pytest`` (see :func:`rrbot_workshop.course.controller_tests.pytest_cell`),
+    and short tracebacks for library errors, in an IPython shell."""
+    from rrbot_workshop.course.controller_tests import pytest_cell
     from rrbot_workshop.course.tracebacks import register
 
     ipython.register_magic_function(control, "line", "control")
     ipython.register_magic_function(topic, "line", "topic")
+    ipython.register_magic_function(pytest_cell, "cell", "pytest")
     register(ipython)
