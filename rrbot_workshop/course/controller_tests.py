@@ -36,7 +36,7 @@ from typing import Any
 import pytest
 
 from rrbot_workshop.course import tracks
-from rrbot_workshop.exceptions import CourseError, UnfinishedExercise
+from rrbot_workshop.exceptions import CourseError, PluginNotFound, UnfinishedExercise
 
 __all__ = ["TASK8", "NOTHING", "controller_class", "default_controller_class", "resolve_controller", "label",
            "Outcome", "TestRuns", "run_tests", "pytest_cell"]
@@ -103,7 +103,7 @@ def resolve_controller(spec: str) -> type:
             found = plugins.resolve("controller", spec)
         else:
             found = None
-    except (ImportError, AttributeError) as exc:
+    except (ImportError, AttributeError, PluginNotFound) as exc:
         raise CourseError("controller", spec, f"'{spec}' cannot be loaded ({type(exc).__name__}: {exc})",
                           [TASK8, NOTHING, "<package>/<Class>", "<module>:<Class>"]) from None
     if not isinstance(found, type):

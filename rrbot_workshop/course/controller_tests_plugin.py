@@ -10,6 +10,7 @@ For each test and controller ``OUT`` gets the outcome, whether a failure was a f
 failed, and how many checks the test passed (``assert`` statements that held, ``pytest.raises`` blocks entered).
 
 Each phase of a test gets ``S`` seconds of CPU time (ten times that of waiting): a learner's test may loop forever.
+A test that runs out of time on the first controller (a grader's correct one) is skipped on the others.
 """
 
 from __future__ import annotations
@@ -90,6 +91,8 @@ class Recorder:
         self.records: dict[str, dict[str, Any]] = {}
         self.errors: list[str] = []
         self.checks: Counter[str] = Counter()
+        #: Test -> why it is not run again: it ran out of time on the first controller (the correct one, for a grader).
+        self.timed_out: dict[str, str] = {}
         self.current = ""
         self._raises = pytest.raises
         self._dumped = time.monotonic()
@@ -159,6 +162,9 @@ class Recorder:
     @pytest.hookimpl(wrapper=True)
     def pytest_runtest_setup(self, item: pytest.Item) -> Generator[None, Any, Any]:
         self.current = item.nodeid
+        test = split_nodeid(item.nodeid)[0]
+        if test in self.timed_out:  # once is enough: a test that loops would cost its time limit on every controller
+            pytest.skip(f"not run: it ran out of time on {self.timed_out[test]}")
         with self.time_limit("set-up"):
             return (yield)
 
@@ -185,6 +191,8 @@ class Recorder:
             record["kind"] = _kind(exc)
             record["message"] = ("in " + call.when + ": " if call.when != "call" else "") + _message(exc)
             record["line"], record["source_line"] = _where(call, Path(str(item.path)))
+            if record["kind"] == "timeout" and record["controller"] == next(iter(self.classes), ""):
+                self.timed_out.setdefault(record["test"], "the first controller")
         elif report.skipped and record["outcome"] == "pending":
             record["outcome"] = "skipped"
             longrepr = report.longrepr
