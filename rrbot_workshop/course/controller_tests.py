@@ -49,8 +49,9 @@ TASK8 = "task8"
 NOTHING = "nothing"
 _REFERENCE = "rrbot_workshop.controllers.displacement:DisplacementController"
 _PLUGIN = "rrbot_workshop.course.controller_tests_plugin"
-#: Files copied with a test file: its folder's Python files, at most this many.
+#: What is copied of a test file's folder: at most this many files, of at most this many bytes in all.
 _MAX_FILES = 200
+_MAX_BYTES = 20 * 1024 * 1024
 
 
 # --------------------------------------------------------------------------------------------- which controller
@@ -271,15 +272,17 @@ class TestRuns:
 # --------------------------------------------------------------------------------------------- running
 
 
-def _copy_python_files(source: Path, dest: Path) -> None:
-    """Copy the Python files of ``source`` (recursively, at most :data:`_MAX_FILES`) to ``dest``."""
-    count = 0
-    for path in sorted(source.rglob("*.py")):
+def _copy_folder(source: Path, dest: Path) -> None:
+    """Copy the regular files of ``source`` (recursively; no links, hidden files or ``__pycache__``; at most
+    :data:`_MAX_FILES` files and :data:`_MAX_BYTES` bytes) to ``dest``: the test file's helpers and data come along."""
+    count = size = 0
+    for path in sorted(source.rglob("*")):
         rel = path.relative_to(source)
-        if any(part.startswith(".") or part == "__pycache__" for part in rel.parts) or not path.is_file():
+        if any(part.startswith(".") or part == "__pycache__" for part in rel.parts) or path.is_symlink() \
+                or not path.is_file():
             continue
-        count += 1
-        if count > _MAX_FILES:
+        count, size = count + 1, size + path.stat().st_size
+        if count > _MAX_FILES or size > _MAX_BYTES:
             break
         target = dest / rel
         target.parent.mkdir(parents=True, exist_ok=True)
@@ -296,8 +299,8 @@ def run_tests(
 ) -> TestRuns:
     """Run the pytest tests of ``test_file`` once per controller, in a fresh Python process.
 
-    The test file's folder is copied first (its Python files: a ``conftest.py`` and helpers come along), so the
-    learner's folder is only read, and every run sees the files as they are now.
+    The test file's folder is copied first (a ``conftest.py``, helpers and data files come along), so the learner's
+    folder is only read, and every run sees the files as they are now.
 
     Args:
         test_file: The test file.
@@ -320,7 +323,7 @@ def run_tests(
     with tempfile.TemporaryDirectory(prefix="rrbot_controller_tests_") as tmp:
         folder = Path(tmp) / "tests"
         folder.mkdir()
-        _copy_python_files(source.parent, folder)
+        _copy_folder(source.parent, folder)
         (folder / source.name).write_bytes(source.read_bytes())
         (Path(tmp) / "pytest.ini").write_text("[pytest]\n", encoding="utf-8")
         specs, out = Path(tmp) / "controllers.json", Path(tmp) / "outcomes.json"

@@ -37,8 +37,9 @@ __all__ = ["FIXTURE", "TestTimeout", "Recorder", "split_nodeid"]
 FIXTURE = "controller_class"
 #: How the plugin's parameter shows in a test's id: ``test_x[cut=c3]``.
 _TOKEN = re.compile(r"(?:^|-)cut=(\w+)(?=-|$)")
-#: A test whose own source says so checks something even if no check ran on a correct controller.
-_EXPLICIT = re.compile(r"\bfail\s*\(|raise\s+AssertionError|\braises\s*\(")
+#: A test whose own source says so checks something even if no check pytest counts ran on a correct controller:
+#: ``pytest.fail``, ``raise AssertionError``, ``pytest.raises``, ``numpy.testing.assert_allclose``, ``self.assertEqual``.
+_EXPLICIT = re.compile(r"\bfail\s*\(|raise\s+AssertionError|\braises\s*\(|\bassert_\w+\s*\(|\.assert[A-Z]\w*\s*\(")
 _ASSERT = re.compile(r"^\s*assert\b", re.MULTILINE)
 #: Seconds between two writes of the outcomes while tests run.
 _DUMP_EVERY = 2.0

@@ -20,12 +20,10 @@ from rrbot_workshop.controllers.displacement import DisplacementController
 from rrbot_workshop.middleware.lifecycle import CallbackReturn, ReturnType, State
 from rrbot_workshop.msgs import Header, JointControllerState
 
-__all__ = ["WrongController", "wrong", "REGISTRY", "EXAMPLES", "EXAMPLE_HEADER", "publish_state"]
-
-#: The imports and helper every example test assumes: those of the exercise's test file.
-EXAMPLE_HEADER = "exercises/task16_test_your_controller/test_displacement_controller.py (its imports and make_harness)"
+__all__ = ["WrongController", "wrong", "REGISTRY", "EXAMPLES", "publish_state"]
 
 #: Example tests, one per rule they show (each passes on a correct controller); a hint shows one for another rule.
+#: They assume the imports and ``make_harness`` of the exercise's test file.
 EXAMPLES: dict[str, str] = {
     "state_plus_displacement": '''\
 def test_command_is_the_state_plus_the_displacement(controller_class):

@@ -282,3 +282,14 @@ def test_the_cell_magic_says_what_is_valid(capsys: pytest.CaptureFixture[str]) -
     assert "usage: %%pytest --against SPEC" in capsys.readouterr().out
     pytest_cell("--against no_such_module:X", "def test_x(controller_class):\n    pass\n")
     assert "no_such_module:X" in capsys.readouterr().out
+
+
+def test_the_test_files_folder_comes_along(tmp_path: Path) -> None:
+    (tmp_path / "expected.txt").write_text("0.5\n")
+    (tmp_path / "helpers.py").write_text("JOINTS = ['j1']\n")
+    (tmp_path / "test_reads.py").write_text(
+        "from pathlib import Path\n\nfrom helpers import JOINTS\n\n\n"
+        "def test_reads_its_data(controller_class):\n"
+        "    assert float((Path(__file__).parent / 'expected.txt').read_text()) == 0.5 and JOINTS == ['j1']\n")
+    runs = run_tests(tmp_path / "test_reads.py", [NOTHING])
+    assert [o.outcome for o in runs.outcomes] == ["passed"], runs.table()
