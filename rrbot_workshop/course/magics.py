@@ -13,6 +13,9 @@ or on ``--system <name>``::
     %control load_controller my_controller my_params.yaml --set-state active
     %control -c /rrbot_1/controller_manager list_controllers
 
+The cell magic ``%%pytest --against SPEC [SPEC ...]`` runs the cell's pytest tests once per controller named (see
+:func:`rrbot_workshop.course.controller_tests.pytest_cell`).
+
 Output is printed (this is the one module whose job is printing); bad input prints an error line
 naming what was wrong and what is valid, and never raises into the notebook.
 """
