@@ -30,10 +30,10 @@ import stat
 import time
 from collections import Counter
 from dataclasses import dataclass, field
-from datetime import datetime
 from pathlib import Path
 from typing import Any
 
+from rrbot_workshop.classroom.class_report_page import local_time, render_html
 from rrbot_workshop.classroom.learner_logs import LearnerLogs, read_logs, shown
 from rrbot_workshop.classroom.task_status import (
     DEFAULT_STUCK_AFTER_S,
@@ -200,8 +200,11 @@ def hub_users(url: str, token: str) -> list[str]:
         are skipped.
 
     Raises:
-        CourseError: If the hub does not answer with its users.
+        CourseError: If ``url`` is not an http(s) address, or the hub does not answer with its users.
     """
+    if not url.startswith(("http://", "https://")):
+        raise CourseError("--hub", url, f"--hub {shown(url, 300)}: give the hub's http:// or https:// address, e.g. "
+                          "http://127.0.0.1:8000")
     names: list[str] = []
     offset = 0
     while len(names) < MAX_HUB_USERS:
@@ -366,13 +369,6 @@ class RoomReport:
         }
 
 
-def local_time(when: float | None) -> str:
-    """``when`` [s since the epoch] as local time, ``2026-05-04 10:32:05 +0200``; ``""`` for None."""
-    if when is None:
-        return ""
-    return datetime.fromtimestamp(when).astimezone().strftime("%Y-%m-%d %H:%M:%S %z")
-
-
 def build_report(patterns: list[str] | tuple[str, ...] = (), missing_ok: bool = False, *,
                  workspaces: list[Workspace] | tuple[Workspace, ...] = (), notes: list[str] | None = None,
                  now: float | None = None, stuck_after: float = DEFAULT_STUCK_AFTER_S,
@@ -464,8 +460,6 @@ def write_report(report: RoomReport, out: Path) -> list[Path]:
     Raises:
         CourseError: If ``out`` is a file or cannot be written.
     """
-    from rrbot_workshop.classroom.class_report_page import render_html
-
     if os.path.lexists(out) and not out.is_dir():
         raise CourseError("--out", str(out), "is a file; give a folder for report.json, report.csv and report.html")
     paths = [out / "report.json", out / "report.csv", out / "report.html"]

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import html
 import math
+from datetime import datetime
 from typing import TYPE_CHECKING
 
 from rrbot_workshop.classroom.task_status import NOT_STARTED, PASSED, STATUSES, STUCK, WORKING, TaskState
@@ -16,7 +17,7 @@ from rrbot_workshop.classroom.task_status import NOT_STARTED, PASSED, STATUSES, 
 if TYPE_CHECKING:
     from rrbot_workshop.classroom.class_report import RoomReport
 
-__all__ = ["render_html", "progress_svg", "duration"]
+__all__ = ["render_html", "progress_svg", "duration", "local_time"]
 
 _CSS = """body{font-family:sans-serif;margin:1.5em;color:#222} table{border-collapse:collapse;margin-bottom:1.5em}
 td,th{border:1px solid #ccc;padding:.3em .6em;text-align:center;vertical-align:top} th.who{text-align:left}
@@ -24,6 +25,13 @@ td,th{border:1px solid #ccc;padding:.3em .6em;text-align:center;vertical-align:t
 .not-started{color:#777;background:#f6f6f6} small{font-weight:normal} .meta{color:#555}
 td.reason{text-align:left;max-width:40em} td.when{white-space:nowrap}"""
 _CLASS = {NOT_STARTED: "not-started", WORKING: "working", STUCK: "stuck", PASSED: "passed"}
+
+
+def local_time(when: float | None) -> str:
+    """``when`` [s since the epoch] as local time, ``2026-05-04 10:32:05 +0200``; ``""`` for None."""
+    if when is None:
+        return ""
+    return datetime.fromtimestamp(when).astimezone().strftime("%Y-%m-%d %H:%M:%S %z")
 
 
 def duration(seconds: float) -> str:
@@ -60,8 +68,6 @@ def _cell(state: TaskState, now: float) -> str:
 
 
 def _ago(when: float | None, now: float) -> str:
-    from rrbot_workshop.classroom.class_report import local_time
-
     if when is None:
         return "no self-check yet"
     return f"{html.escape(local_time(when)[11:16])} ({duration(now - when)} ago)"
@@ -110,8 +116,6 @@ def progress_svg(report: RoomReport, width: int = 640, height: int = 240) -> str
 
 def render_html(report: RoomReport) -> str:
     """The report as one HTML page (see the module's documentation)."""
-    from rrbot_workshop.classroom.class_report import local_time
-
     esc = html.escape
     now = report.made_at
     tasks = report.tasks()

@@ -118,12 +118,14 @@ def test_a_hub_that_answers_one_plain_list_is_read_too(hub) -> None:
     assert hub_users(url, TOKEN) == ["ana", "ben"] and len(handler.requests) == 1
 
 
-def test_hub_users_raises_course_error_without_a_valid_token_or_a_hub(hub) -> None:
+def test_hub_users_raises_course_error_without_a_valid_token_a_hub_or_an_http_address(hub) -> None:
     url, _ = hub
     with pytest.raises(CourseError, match="did not list its users.*403"):
         hub_users(url, "wrong")
     with pytest.raises(CourseError, match="did not list its users"):
         hub_users("http://127.0.0.1:9", TOKEN)
+    with pytest.raises(CourseError, match="give the hub's http:// or https:// address"):
+        hub_users("file:///etc/passwd", TOKEN)
 
 
 def test_hub_workspaces_raises_course_error_for_a_template_without_the_user() -> None:
