@@ -162,7 +162,7 @@ def test_fifos_are_never_opened(tmp_path: Path) -> None:
     assert "not a regular file" in index.broken[fifo_pkg / "package.xml"]
     assert index.packages["cmake_fifo"].rules == ()  # not read: the package resolves from its folder
     assert "config/pipe.yaml" not in view_files(packages.share_directory("bot", [tmp_path / "src"]))
-    with pytest.raises(DescriptionError, match="not found"):
+    with pytest.raises(DescriptionError, match="pipe.yaml, which is not a regular file"):
         packages.resolve("bot", "config/pipe.yaml", [tmp_path / "src"])
 
 

@@ -30,6 +30,12 @@ __all__ = [
 
 def _not_found(package: Package, relative: str, candidates: Sequence[Path]) -> DescriptionError:
     looked = "; ".join(str(c) for c in candidates) or "nowhere"
+    special = [c for c in candidates if os.path.lexists(c) and not (os.path.isfile(c) or os.path.isdir(c))]
+    if special:  # a FIFO, a device, a socket or a broken link: reading it could block, or there is nothing
+        return DescriptionError(
+            f"file '{relative}' of package '{package.name}' is {special[0]}, which is not a regular file (a FIFO, "
+            "device, socket or broken link); give a regular file", element="package",
+            attribute=f"{package.name}/{relative}")
     extra = ""
     if package.maps_through_rules:
         plain = package.path / relative
