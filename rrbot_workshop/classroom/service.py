@@ -1,0 +1,324 @@
+"""The instructor's live view of a room: ``rrbot-workshop class-service``, a JupyterHub service.
+
+Every learner's self-check (``check(N)`` in a notebook, ``rrbot-workshop grade N`` in a terminal) posts its attempt
+here with the learner's own hub token (:mod:`rrbot_workshop.course.grading.live_view`). The service asks the hub whose
+token it is and files the attempt under that name: the name in a request's body, if any, is ignored, so nobody can
+post for someone else. The page at the service's prefix is for instructors only (the hub's OAuth; a hub admin or a
+member of ``--group``), refreshes itself, and shows for each learner and task whether they have not started, are
+working, are stuck or have passed; each learner's last activity and server state (from the hub's REST API); the most
+common reasons among those who tried; and when it was made. ``api/status`` gives the same as JSON.
+
+It runs the same on The Littlest JupyterHub (a hub-managed service on 127.0.0.1, deploy/tljh) and on
+zero-to-jupyterhub (a container beside the hub, deploy/z2jh). The results are kept in memory and appended to a
+JSON-lines file (``--state``), read back at start. Without ``--ip``, it listens where the hub says
+(``$JUPYTERHUB_SERVICE_URL``), else on 127.0.0.1.
+"""
+
+from __future__ import annotations
+
+import html
+import json
+import logging
+import os
+import time
+import urllib.parse
+from collections import Counter
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from rrbot_workshop.classroom.hub import server_state
+
+__all__ = ["Results", "RoomView", "validate_attempt", "make_app", "serve", "MAX_BODY", "REFRESH_S"]
+
+logger = logging.getLogger(__name__)
+
+#: Largest result a learner may post [bytes].
+MAX_BODY = 64 * 1024
+#: How often the page reloads itself [s].
+REFRESH_S = 20
+#: A check failing this long, through every attempt since, makes a learner "stuck" [s].
+STUCK_AFTER_S = 10 * 60
+
+
+def validate_attempt(body: Any) -> dict[str, Any]:
+    """The attempt in a posted body, checked and trimmed; what the attempt log records.
+
+    Raises:
+        ValueError: If a field is missing or of the wrong kind; the message names it.
+    """
+    if not isinstance(body, dict):
+        raise ValueError("the body must be a JSON object")
+    task = body.get("task")
+    if not isinstance(task, int) or isinstance(task, bool) or not 0 <= task <= 99:
+        raise ValueError("task: an integer from 0 to 99")
+    out: dict[str, Any] = {"task": task}
+    for key in ("score", "max_score"):
+        value = body.get(key)
+        if not isinstance(value, int | float) or isinstance(value, bool) or not 0 <= value <= 1e6:
+            raise ValueError(f"{key}: a number of points from 0 to 1e6")
+        out[key] = float(value)
+    failed = body.get("failed", [])
+    if not isinstance(failed, list) or len(failed) > 200 or not all(isinstance(f, str) for f in failed):
+        raise ValueError("failed: a list of at most 200 check names")
+    reasons = body.get("reasons", {})
+    if not isinstance(reasons, dict) or len(reasons) > 200 or not all(
+            isinstance(k, str) and isinstance(v, str) for k, v in reasons.items()):
+        raise ValueError("reasons: an object of at most 200 check names -> reason")
+    out["failed"] = sorted(f[:200] for f in failed)
+    out["reasons"] = {k[:200]: v[:300] for k, v in reasons.items()}
+    out["version"] = str(body.get("version", ""))[:64]
+    return out
+
+
+class Results:
+    """The attempts learners posted, by learner and task, kept in a JSON-lines file.
+
+    Args:
+        path: The file (made if missing; read back at start), or None to keep them in memory only.
+        clock: Seconds since the epoch (injectable for tests).
+    """
+
+    def __init__(self, path: Path | None = None, clock: Any = time.time) -> None:
+        self.path = path
+        self.clock = clock
+        self._attempts: dict[str, dict[int, list[dict[str, Any]]]] = {}
+        if path is not None and path.is_file():
+            for number, line in enumerate(path.read_text(errors="replace").splitlines(), 1):
+                try:
+                    entry = json.loads(line)
+                    self._file(str(entry["user"]), validate_attempt(entry), float(entry["time"]))
+                except (ValueError, KeyError, TypeError) as exc:
+                    logger.warning("%s:%d: skipped (%s)", path, number, exc)
+
+    def _file(self, user: str, attempt: dict[str, Any], when: float) -> dict[str, Any]:
+        entry = {**attempt, "time": when}
+        self._attempts.setdefault(user, {}).setdefault(int(attempt["task"]), []).append(entry)
+        return entry
+
+    def add(self, user: str, attempt: dict[str, Any]) -> dict[str, Any]:
+        """File a checked attempt (see :func:`validate_attempt`) under ``user``, at the service's time of arrival."""
+        entry = self._file(user, attempt, float(self.clock()))
+        if self.path is not None:
+            try:
+                with self.path.open("a") as f:
+                    f.write(json.dumps({"user": user, **entry}) + "\n")
+            except OSError as exc:
+                logger.warning("results not saved to %s: %s", self.path, exc)
+        return entry
+
+    def attempts(self) -> dict[str, dict[int, list[dict[str, Any]]]]:
+        """Learner -> task -> attempts, oldest first."""
+        return self._attempts
+
+
+def task_status(attempts: list[dict[str, Any]], now: float, stuck_after: float = STUCK_AFTER_S) -> str:
+    """``"not started"``, ``"working"``, ``"stuck"`` (one check failing through every attempt for ``stuck_after``
+    seconds or more) or ``"passed"`` (an attempt with every point)."""
+    if not attempts:
+        return "not started"
+    if any(a["max_score"] and a["score"] >= a["max_score"] for a in attempts):
+        return "passed"
+    failing = set(attempts[-1]["failed"])
+    since = attempts[-1]["time"]
+    for attempt in reversed(attempts):
+        failing &= set(attempt["failed"])
+        if not failing:
+            break
+        since = attempt["time"]
+    return "stuck" if failing and now - since >= stuck_after else "working"
+
+
+@dataclass
+class RoomView:
+    """What the page shows, made from the results and the hub's user list at one moment.
+
+    Attributes:
+        made_at: When [s since the epoch].
+        tasks: The task numbers shown.
+        learners: One row per learner: name, server state, last activity, task -> (status, points, max points).
+        reasons: Per task, the most common (check, reason, learners) among those whose latest attempt failed.
+    """
+
+    made_at: float
+    tasks: list[int]
+    learners: list[dict[str, Any]]
+    reasons: dict[int, list[tuple[str, str, int]]]
+
+    @classmethod
+    def build(cls, results: Results, users: list[dict[str, Any]], tasks: list[int], now: float,
+              hidden: set[str]) -> RoomView:
+        """The view of ``results`` for the hub's ``users`` (admins and ``hidden`` names left out)."""
+        posted = results.attempts()
+        names = {u["name"] for u in users if not u.get("admin") and u["name"] not in hidden}
+        names |= set(posted) - hidden
+        by_name = {u["name"]: u for u in users}
+        shown = sorted(set(tasks) | {t for p in posted.values() for t in p})
+        rows, reasons = [], {}
+        counts: dict[int, Counter[tuple[str, str]]] = {}
+        for name in sorted(names):
+            state = server_state(by_name.get(name, {}))
+            row: dict[str, Any] = {"name": name, "server": state.state, "last_activity": state.last_activity,
+                                   "tasks": {}}
+            for task in shown:
+                attempts = posted.get(name, {}).get(task, [])
+                status = task_status(attempts, now)
+                last = attempts[-1] if attempts else None
+                row["tasks"][task] = {"status": status, "attempts": len(attempts),
+                                      "points": last["score"] if last else None,
+                                      "max_points": last["max_score"] if last else None}
+                if last is not None and status != "passed":
+                    for check in last["failed"]:
+                        counts.setdefault(task, Counter())[(check, last["reasons"].get(check, ""))] += 1
+            rows.append(row)
+        for task, counter in counts.items():
+            reasons[task] = [(check, why, n) for (check, why), n in counter.most_common(5)]
+        return cls(now, shown, rows, reasons)
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready: what ``api/status`` answers."""
+        return {"made_at": self.made_at, "tasks": self.tasks, "learners": self.learners,
+                "reasons": {str(t): [{"check": c, "reason": r, "learners": n} for c, r, n in rows]
+                            for t, rows in self.reasons.items()}}
+
+    def html(self, refresh_s: int = REFRESH_S) -> str:
+        """The page: the table, the reasons, when it was made; it reloads itself every ``refresh_s`` seconds."""
+        made = time.strftime("%Y-%m-%d %H:%M:%S %Z", time.localtime(self.made_at))
+        head = "".join(f"<th>task {t}</th>" for t in self.tasks)
+        body = []
+        for row in self.learners:
+            cells = []
+            for task in self.tasks:
+                cell = row["tasks"][task]
+                points = "" if cell["points"] is None else f"<br><small>{cell['points']:g}/{cell['max_points']:g}" \
+                                                           f" · {cell['attempts']}×</small>"
+                cells.append(f'<td class="{cell["status"].replace(" ", "-")}">{cell["status"]}{points}</td>')
+            activity = html.escape(row["last_activity"][:19].replace("T", " ")) or "never"
+            body.append(f"<tr><th>{html.escape(row['name'])}</th><td>{html.escape(row['server'])}</td>"
+                        f"<td>{activity}</td>{''.join(cells)}</tr>")
+        reasons = []
+        for task in sorted(self.reasons):
+            items = "".join(f"<li><b>{n}</b> × <code>{html.escape(c)}</code>: {html.escape(r) or '(no reason)'}</li>"
+                            for c, r, n in self.reasons[task])
+            reasons.append(f"<h3>task {task}</h3><ul>{items}</ul>")
+        counts = Counter(c["status"] for r in self.learners for c in r["tasks"].values())
+        summary = " · ".join(f"{counts[s]} {s}" for s in ("passed", "working", "stuck", "not started"))
+        return f"""<!doctype html><html><head><meta charset="utf-8">
+<meta http-equiv="refresh" content="{refresh_s}"><title>rrbot_workshop: the room</title><style>
+body{{font-family:sans-serif;margin:1.5em}} table{{border-collapse:collapse}}
+th,td{{border:1px solid #ccc;padding:.3em .6em;text-align:left;vertical-align:top}}
+.passed{{background:#c8f0c8}} .working{{background:#fff3c4}} .stuck{{background:#f8c4c4}}
+.not-started{{color:#888}} small{{color:#555}}</style></head><body>
+<h1>The room</h1><p>{len(self.learners)} learner(s) · {summary} · made {made} · reloads every {refresh_s} s</p>
+<table><tr><th>learner</th><th>server</th><th>last activity (UTC)</th>{head}</tr>{''.join(body)}</table>
+<h2>Most common reasons among those who tried</h2>{''.join(reasons) or '<p>none yet</p>'}
+</body></html>"""
+
+
+def make_app(results: Results, prefix: str, api_url: str, token: str, tasks: list[int], group: str = "",
+             hub_auth: Any = None) -> Any:
+    """The tornado application: ``POST <prefix>api/results``, ``GET <prefix>`` and ``<prefix>api/status``.
+
+    Args:
+        results: Where posted attempts go.
+        prefix: The service's URL prefix (``/services/<name>/``).
+        api_url: The hub's API (``.../hub/api``), reached with ``token``.
+        token: The service's own API token (listing users, reading their servers).
+        tasks: The tasks to show even before anyone tried them.
+        group: A hub group whose members may see the page (hub admins always may).
+        hub_auth: JupyterHub's ``HubOAuth`` for the page (made from the environment if None).
+    """
+    from jupyterhub.services.auth import HubOAuth, HubOAuthCallbackHandler, HubOAuthenticated
+    from tornado import web
+    from tornado.httpclient import AsyncHTTPClient, HTTPClientError, HTTPRequest
+
+    auth = hub_auth or HubOAuth(api_url=api_url, api_token=token, cache_max_age=60)
+    client = AsyncHTTPClient()
+
+    async def hub_get(path: str, with_token: str) -> Any:
+        request = HTTPRequest(f"{api_url}/{path}", headers={"Authorization": f"token {with_token}",
+                                                            "Accept": "application/json"}, request_timeout=10)
+        try:
+            return json.loads((await client.fetch(request)).body)
+        except HTTPClientError as exc:
+            if exc.code in (401, 403, 404):
+                return None
+            raise
+
+    class ResultsHandler(web.RequestHandler):
+        def check_xsrf_cookie(self) -> None:  # token-authenticated API, no cookies
+            pass
+
+        async def post(self) -> None:
+            header = self.request.headers.get("Authorization", "")
+            if not header.lower().startswith("token ") or not header[6:].strip():
+                raise web.HTTPError(401, "a learner's hub token is needed: Authorization: token <token>")
+            if len(self.request.body) > MAX_BODY:
+                raise web.HTTPError(413, f"a result is at most {MAX_BODY} bytes")
+            owner = await hub_get("user", header[6:].strip())
+            if not owner or owner.get("kind", "user") != "user":
+                raise web.HTTPError(403, "the hub knows no learner with this token")
+            try:
+                attempt = validate_attempt(json.loads(self.request.body))
+            except ValueError as exc:
+                raise web.HTTPError(400, str(exc)) from exc
+            entry = results.add(str(owner["name"]), attempt)
+            self.set_status(201)
+            self.finish({"user": owner["name"], "task": entry["task"], "time": entry["time"]})
+
+    class ViewHandler(HubOAuthenticated, web.RequestHandler):
+        allow_all = True  # any hub user gets through OAuth; who may see the room is decided below
+
+        async def view(self) -> RoomView:
+            user = self.current_user
+            model = await hub_get(f"users/{urllib.parse.quote(user['name'])}", token) if user else None
+            if not model or not (model.get("admin") or (group and group in model.get("groups", []))):
+                raise web.HTTPError(403, "the live view is for the room's instructors")
+            users = await hub_get("users", token) or []
+            return RoomView.build(results, users, tasks, time.time(), hidden=set())
+
+    class PageHandler(ViewHandler):
+        @web.authenticated
+        async def get(self) -> None:
+            self.finish((await self.view()).html())
+
+    class StatusHandler(ViewHandler):
+        @web.authenticated
+        async def get(self) -> None:
+            self.finish((await self.view()).to_dict())
+
+    return web.Application([
+        (prefix, PageHandler),
+        (prefix + "api/status", StatusHandler),
+        (prefix + "api/results", ResultsHandler),
+        (prefix + "oauth_callback", HubOAuthCallbackHandler),
+    ], hub_auth=auth, cookie_secret=os.urandom(32))
+
+
+def serve(state: Path | None, ip: str | None, port: int | None, group: str, name: str) -> None:
+    """Run the service until it is stopped, configured from the hub's environment (``JUPYTERHUB_*``).
+
+    Raises:
+        CourseError: If the hub's API URL or the service's token is missing from the environment.
+    """
+    from tornado import ioloop
+
+    from rrbot_workshop.course.grading.runner import graded_tasks
+    from rrbot_workshop.exceptions import CourseError
+
+    name = os.environ.get("JUPYTERHUB_SERVICE_NAME", name)
+    api_url, token = os.environ.get("JUPYTERHUB_API_URL", ""), os.environ.get("JUPYTERHUB_API_TOKEN", "")
+    if not api_url or not token:
+        raise CourseError("environment", "JUPYTERHUB_API_URL", "class-service runs as a JupyterHub service: the hub "
+                          "sets JUPYTERHUB_API_URL and JUPYTERHUB_API_TOKEN (see deploy/)")
+    prefix = os.environ.get("JUPYTERHUB_SERVICE_PREFIX", f"/services/{name}/")
+    # what the hub sets for a service it starts, and what a service beside the hub (z2jh) derives from its name
+    os.environ.setdefault("JUPYTERHUB_SERVICE_PREFIX", prefix)
+    os.environ.setdefault("JUPYTERHUB_CLIENT_ID", f"service-{name}")
+    os.environ.setdefault("JUPYTERHUB_OAUTH_CALLBACK_URL", prefix + "oauth_callback")
+    os.environ.setdefault("JUPYTERHUB_BASE_URL", "/")
+    where = urllib.parse.urlparse(os.environ.get("JUPYTERHUB_SERVICE_URL", "http://127.0.0.1:10101"))
+    app = make_app(Results(state), prefix, api_url.rstrip("/"), token, graded_tasks(), group)
+    app.listen(port or where.port or 10101, address=ip or where.hostname or "127.0.0.1")
+    logger.info("rrbot-class: the live view at %s on %s:%s", prefix, ip or where.hostname, port or where.port)
+    ioloop.IOLoop.current().start()
