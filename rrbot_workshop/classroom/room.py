@@ -493,10 +493,11 @@ def run_cells(url: str, token: str, sources: list[str], timeout: float) -> tuple
                 message = json.loads(ws.recv())
                 if message.get("parent_header", {}).get("msg_id") != msg_id:
                     continue
-                kind = message["header"]["msg_type"]
-                if kind == "error":
-                    errors.append(f"{message['content']['ename']}: {message['content']['evalue']}")
-                if kind == "execute_reply" and message.get("channel") == "shell":
+                if message["header"]["msg_type"] == "execute_reply" and message.get("channel") == "shell":
+                    # the reply says whether the cell raised (its iopub "error" may come before or after it)
+                    content = message["content"]
+                    if content.get("status") == "error":
+                        errors.append(f"{content.get('ename')}: {content.get('evalue')}")
                     break
             times.append(time.monotonic() - begin)
     finally:
