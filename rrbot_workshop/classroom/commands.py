@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import sys
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
@@ -71,29 +72,75 @@ def add_commands(sub: Any) -> dict[str, Callable[[argparse.Namespace], int]]:
             "class-service": _cmd_class_service, "room": _cmd_room}
 
 
+def _report_lines(result: Any) -> list[str]:
+    """What ``init`` did, one line each: the problems met and dealt with, kept files, notebooks."""
+    lines = [f"note: {note}" for note in result.notes]
+    lines += [f"{rel}: you changed it and so did the course; yours is kept, the course's is beside it as "
+              f"{Path(rel).name}.course-update" for rel in result.kept]
+    return lines + list(result.notebooks)
+
+
 def _cmd_init(args: argparse.Namespace) -> int:
     from rrbot_workshop.classroom.workspace import init_workspace
 
     result = init_workspace(args.workspace, args.source)
     what = "made" if result.created else "updated"
-    print(f"Workspace {what}: {result.workspace} ({len(result.added)} exercise file(s) added, "
+    print(f"Workspace {what}: {result.workspace} from {result.source} ({len(result.added)} exercise file(s) added, "
           f"{len(result.updated)} updated)")
-    for rel in result.kept:
-        print(f"  {rel}: you changed it and so did the course; yours is kept, the course's is beside it as "
-              f"{Path(rel).name}.course-update")
-    for line in result.notebooks:
+    for line in _report_lines(result):
         print(f"  {line}")
     if result.created:
         print(f"Work in {result.workspace}: open my_notebooks/00_intro.ipynb; in a terminal, cd there first.")
     return 0
 
 
-def _cmd_singleuser(args: argparse.Namespace) -> int:
-    from rrbot_workshop.classroom.workspace import init_workspace, singleuser_command
+#: Exit status of ``singleuser`` when the learner's workspace cannot be used (the server is not started).
+WORKSPACE_UNUSABLE = 2
+#: Exit status of ``singleuser`` when ``jupyterhub-singleuser`` cannot be started (as a shell says of a command).
+SERVER_MISSING = 127
 
-    result = init_workspace()
-    command = singleuser_command(result.workspace, list(args.args))
-    os.execvp(command[0], command)  # the server takes this process's place: the spawner's signals reach it
+
+def _log(message: str) -> None:
+    """One line in the single-user server's log (JupyterHub keeps the spawned process's stderr)."""
+    print(f"rrbot-workshop singleuser: {' '.join(str(message).split())}", file=sys.stderr, flush=True)
+
+
+def _cmd_singleuser(args: argparse.Namespace) -> int:
+    """Make or update ``~/rrbot_workshop`` and start the server there; every problem is one line on stderr.
+
+    The server starts whenever the workspace is usable, even when the update met a problem (the learner keeps working
+    on what is there; the next start tries again). When it is not usable, the line says what to do and the exit
+    status is :data:`WORKSPACE_UNUSABLE`.
+    """
+    from rrbot_workshop.classroom.workspace import default_workspace, init_workspace, is_workspace, singleuser_command
+
+    try:
+        workspace = default_workspace()
+    except RuntimeError as exc:  # no home folder: nowhere to make a workspace
+        _log(f"the learner has no home folder ({exc}); give the user a home, then start the server again")
+        return WORKSPACE_UNUSABLE
+    try:
+        result = init_workspace(workspace)
+    except CourseError as exc:
+        _log(f"the workspace was not updated: {exc}")
+    except Exception as exc:  # noqa: BLE001 - the server must still start when the workspace is usable
+        _log(f"the workspace was not updated: {type(exc).__name__}: {exc}")
+    else:
+        _log(f"workspace {'made' if result.created else 'updated'}: {workspace} from {result.source}")
+        for line in _report_lines(result):
+            _log(line)
+    if not is_workspace(workspace) or not os.access(workspace, os.R_OK | os.W_OK | os.X_OK):
+        _log(f"{workspace} is not a workspace this server can open. Move it away or free the name (as the learner or "
+             f"an admin: `mv {workspace} {workspace}.old`), check the home folder is writable, then start the "
+             "server again: the next start makes a new workspace")
+        return WORKSPACE_UNUSABLE
+    command = singleuser_command(workspace, list(args.args))
+    try:
+        os.execvp(command[0], command)  # the server takes this process's place: the spawner's signals reach it
+    except OSError as exc:
+        _log(f"{command[0]} could not be started ({exc.strerror or exc}); install JupyterHub's single-user server "
+             "in this environment (pip install 'rrbot_workshop[hub]', or jupyterhub)")
+        return SERVER_MISSING
     return 0  # pragma: no cover - execvp does not return
 
 

@@ -365,7 +365,7 @@ c.JupyterHub.cleanup_servers = True
         self._wait(lambda: self.api("GET", f"/user/{name}/api/status", token=token)[0] == 200, f"{name}'s server")
 
     def learner_session(self, name: str, notebook: str = "my_notebooks/02_mock_hardware.ipynb",
-                        prepare: Any = None) -> LearnerRun:
+                        prepare: Any = None, observe: Any = None) -> LearnerRun:
         """What a learner does: log in, start the server, run ``notebook``'s code cells in a kernel (the last one
         grades the task), read the score from their attempt log.
 
@@ -374,8 +374,12 @@ c.JupyterHub.cleanup_servers = True
             notebook: The notebook to run, relative to the workspace.
             prepare: Called with the learner's workspace once it exists (e.g. to put a solved exercise there); what
                 it writes is given to the learner.
+            observe: Called with ``"login"`` as the learner logs in and ``"result"`` when their grade is in (the
+                benchmark measures the learner's processes then).
         """
         run = LearnerRun(name)
+        if observe is not None:
+            observe("login")
         start = time.monotonic()
         run.token = token = self.login(name)
         run.login_s = time.monotonic() - start
@@ -391,6 +395,8 @@ c.JupyterHub.cleanup_servers = True
         url = f"ws://127.0.0.1:{self.port}/user/{name}/api/kernels/{kernel}/channels"
         run.cell_s, run.errors = run_cells(url, token, ["".join(c["source"]) for c in cells], self.timeout)
         run.first_result_s = time.monotonic() - start
+        if observe is not None:
+            observe("result")
         log = workspace / "exercises" / ".progress" / "task02.json"
         if log.is_file():
             last = json.loads(log.read_text())["attempts"][-1]

@@ -23,10 +23,12 @@ who edits an included file gets a fresh expansion, since the contents are compar
 
 from __future__ import annotations
 
+import errno
 import hashlib
 import logging
 import os
 import re
+import stat
 import threading
 import xml.parsers.expat
 from collections import OrderedDict
@@ -111,6 +113,22 @@ def _mapping_value(value: Any) -> str:
     return str(value)
 
 
+def _open_regular(file: Any, mode: str = "r", *args: Any, **kwargs: Any) -> Any:
+    """``open`` for xacro: a file read (the description, an include, a YAML file) must be a regular file, so a FIFO
+    or a device named by a description never blocks or floods the expansion."""
+    if isinstance(file, int) or any(c in mode for c in "wax+"):
+        return open(file, mode, *args, **kwargs)  # noqa: SIM115 - xacro closes what it opens
+    fd = os.open(file, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
+    try:
+        if not stat.S_ISREG(os.fstat(fd).st_mode):
+            raise OSError(errno.EINVAL, "not a regular file (a FIFO, a device or a folder)", str(file))
+        os.set_blocking(fd, True)
+        return open(fd, mode, *args, **kwargs)  # noqa: SIM115 - xacro closes what it opens
+    except BaseException:
+        os.close(fd)
+        raise
+
+
 @contextmanager
 def _xacro_sandbox() -> Iterator[None]:
     """Redirect ``$(find)`` to :func:`find_package` and restore every xacro global afterwards."""
@@ -129,9 +147,15 @@ def _xacro_sandbox() -> Iterator[None]:
     with _LOCK:
         _subst._eval_find = _eval_find  # type: ignore[assignment]
         _subst._eval_dict["find"] = _eval_find
+        saved_open = vars(xacro).get("open")
+        xacro.open = _open_regular  # type: ignore[attr-defined]  # shadows the builtin in xacro's module only
         try:
             yield
         finally:
+            if saved_open is None:
+                vars(xacro).pop("open", None)
+            else:
+                xacro.open = saved_open  # type: ignore[attr-defined]
             _subst._eval_find = saved_find  # type: ignore[assignment]
             _subst._eval_dict["find"] = saved_eval_find
             xacro.verbosity = saved_verbosity
@@ -247,10 +271,20 @@ _ENV_RE = re.compile(r"\$\(\s*(?:env|optenv)\s+([^\s)]+)")
 
 
 def _digest(path: str) -> str:
+    """The digest of a regular file's contents; "" for anything else (a FIFO is never waited on)."""
     try:
-        return hashlib.sha256(Path(path).read_bytes()).hexdigest()
+        fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
     except OSError:
         return ""
+    try:
+        if not stat.S_ISREG(os.fstat(fd).st_mode):
+            return ""
+        with os.fdopen(os.dup(fd), "rb") as f:
+            return hashlib.sha256(f.read()).hexdigest()
+    except OSError:
+        return ""
+    finally:
+        os.close(fd)
 
 
 def _cache_key(file: Path, mappings: dict[str, str]) -> tuple[Any, ...]:
@@ -274,7 +308,8 @@ def _remember(key: tuple[Any, ...], file: Path, includes: list[str], text: str) 
     names: set[str] = set()
     for path in read:  # $(env NAME) and $(optenv NAME ...) in any of them: the value is part of the result
         try:
-            names.update(_ENV_RE.findall(Path(path).read_text(errors="replace")))
+            if stat.S_ISREG(os.stat(path).st_mode):
+                names.update(_ENV_RE.findall(Path(path).read_text(errors="replace")))
         except OSError:
             continue
     _CACHE[key] = (tuple((path, _digest(path)) for path in read),

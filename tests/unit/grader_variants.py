@@ -95,14 +95,18 @@ def build_variant(task: int, variant: Variant, dest: Path) -> Path:
 
 
 def grade_variants(task: int, variants: Iterable[Variant], tmp: Path, workers: int | None = None) -> dict[str, Rubric]:
-    """Grade every variant (``workers`` subprocesses at a time, default the CPU count); name -> rubric."""
+    """Grade every variant (``workers`` subprocesses at a time); name -> rubric.
+
+    ``workers`` defaults to this process's share of the cores: all of them, or one per pytest-xdist worker's share.
+    """
     listed = list(variants)
     names = [v.name for v in listed]
     duplicates = {n for n in names if names.count(n) > 1}
     if duplicates:
         raise AssertionError(f"variant names must be unique: {sorted(duplicates)}")
     roots = {v.name: build_variant(task, v, tmp / v.name) for v in listed}
-    with ThreadPoolExecutor(max_workers=workers or os.cpu_count() or 2) as pool:
+    share = (os.cpu_count() or 2) // int(os.environ.get("PYTEST_XDIST_WORKER_COUNT", "1") or 1)
+    with ThreadPoolExecutor(max_workers=workers or max(1, share)) as pool:
         futures = {name: pool.submit(grade, task, task_root=root, record=False) for name, root in roots.items()}
         return {name: future.result() for name, future in futures.items()}
 

@@ -190,7 +190,7 @@ def test_reset_with_an_unwritable_backup_folder_changes_nothing_and_says_why(
     exercise = _committed(course)
 
     def no_space(src: object, dst: str, *args: object, **kwargs: object) -> None:
-        Path(dst).mkdir(parents=True)
+        Path(dst).mkdir(parents=True, exist_ok=True)  # the backup folder is made first (a name of its own)
         (Path(dst) / "half.txt").write_text("x")
         raise OSError(28, "No space left on device")
 

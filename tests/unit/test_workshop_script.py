@@ -93,3 +93,34 @@ def test_the_tool_runs_from_any_terminal_through_the_workshop_script() -> None:
                             env=env)
     assert result.returncode == 0, result.stderr
     assert "task01_description" in result.stdout
+
+
+def test_the_test_command_compares_the_notebooks_on_the_exercises_and_runs_them_on_the_solutions(tmp_path: Path) -> None:
+    """One run for the library with the notebooks compared on the untouched exercises, one for the solutions track; a
+    copy without the library's references runs its WITHHELD.json notebooks without comparing, and has no solutions."""
+    from rrbot_workshop.classroom.launcher import planned_runs
+
+    runs = planned_runs(ROOT, {"X": "1"})
+    assert [r[1][0] for r in runs] == ["--nbval", "--nbval-lax"]
+    assert "tests/unit" in runs[0][1] and "notebooks/02_mock_hardware.ipynb" in runs[0][1]
+    assert runs[0][2]["RRBOT_WORKSHOP_TRACK"] == "exercises" and runs[1][2]["RRBOT_WORKSHOP_TRACK"] == "solutions"
+    assert all(r[2]["X"] == "1" for r in runs)
+
+    copy = tmp_path / "copy"
+    (copy / "notebooks").mkdir(parents=True)
+    for name in ("01_a.ipynb", "02_b.ipynb"):
+        (copy / "notebooks" / name).write_text("{}")
+    (copy / "WITHHELD.json").write_text('{"notebooks": ["notebooks/02_b.ipynb"]}')
+    runs = planned_runs(copy, {})
+    assert [(r[1][0], r[1][-1]) for r in runs] == [("--nbval", "notebooks/01_a.ipynb"),
+                                                   ("--nbval-lax", "notebooks/02_b.ipynb")]
+
+
+def test_the_test_command_counts_what_every_run_tested(tmp_path: Path) -> None:
+    """The counts printed at the end come from each run's JUnit report; a run that wrote none counts nothing."""
+    from rrbot_workshop.classroom.launcher import _tally
+
+    report = tmp_path / "r.xml"
+    report.write_text('<testsuites><testsuite tests="10" failures="1" errors="1" skipped="3"/></testsuites>')
+    assert _tally(report) == (10, 2, 3, 5)
+    assert _tally(tmp_path / "missing.xml") == (0, 0, 0, 0)
