@@ -133,6 +133,8 @@ class LearnerRun:
         score: Points of task 2 (from their attempt log), and the maximum.
         errors: Cells that raised, with their error.
         token: The learner's API token (valid while the room runs).
+        server_status: The hub's answer to their asking for the server (201 started, 202 starting, 400 running
+            already: a warmed room).
     """
 
     name: str
@@ -143,6 +145,7 @@ class LearnerRun:
     score: tuple[float, float] = (0.0, 0.0)
     errors: list[str] = field(default_factory=list)
     token: str = ""
+    server_status: int = 0
 
 
 class Room:
@@ -351,8 +354,8 @@ c.JupyterHub.cleanup_servers = True
             raise
         return opener if any(c.name.startswith("jupyterhub-session") for c in jar) else None
 
-    def start_server(self, name: str, token: str) -> None:
-        """Start the learner's server and wait until it answers."""
+    def start_server(self, name: str, token: str) -> int:
+        """Start the learner's server and wait until it answers; the hub's first answer (400: running already)."""
         deadline = time.monotonic() + self.timeout
         while True:
             status, _ = self.hub.request("POST", f"users/{name}/server", token=token)
@@ -363,6 +366,7 @@ c.JupyterHub.cleanup_servers = True
         if status not in (201, 202, 400):
             raise RuntimeError(f"starting {name}'s server: HTTP {status}")
         self._wait(lambda: self.api("GET", f"/user/{name}/api/status", token=token)[0] == 200, f"{name}'s server")
+        return status
 
     def learner_session(self, name: str, notebook: str = "my_notebooks/02_mock_hardware.ipynb",
                         prepare: Any = None, observe: Any = None) -> LearnerRun:
@@ -384,7 +388,7 @@ c.JupyterHub.cleanup_servers = True
         run.token = token = self.login(name)
         run.login_s = time.monotonic() - start
         begin = time.monotonic()
-        self.start_server(name, token)
+        run.server_status = self.start_server(name, token)
         run.server_s = time.monotonic() - begin
         workspace = self.homes / name / "rrbot_workshop"
         if prepare is not None:

@@ -181,41 +181,70 @@ class RoomView:
                 "reasons": {str(t): [{"check": c, "reason": r, "learners": n} for c, r, n in rows]
                             for t, rows in self.reasons.items()}}
 
-    def html(self, refresh_s: int = REFRESH_S) -> str:
-        """The page: the table, the reasons, when it was made; it reloads itself every ``refresh_s`` seconds."""
-        made = time.strftime("%Y-%m-%d %H:%M:%S %Z", time.localtime(self.made_at))
-        head = "".join(f"<th>task {t}</th>" for t in self.tasks)
+    def html(self, refresh_s: int = REFRESH_S, titles: dict[int, str] | None = None) -> str:
+        """The page: the table, the reasons, when it was made; it reloads itself every ``refresh_s`` seconds.
+
+        Args:
+            refresh_s: Seconds between two reloads.
+            titles: Task number -> name, shown when the pointer rests on a task's column.
+        """
+        titles = titles or {}
+        made = time.strftime("%H:%M:%S %Z, %Y-%m-%d", time.localtime(self.made_at))
+        head = "".join(f'<th title="{html.escape(titles.get(t, ""))}">{t}</th>' for t in self.tasks)
+        marks = {"passed": "✓", "working": "…", "stuck": "!", "not started": "·"}
         body = []
         for row in self.learners:
             cells = []
             for task in self.tasks:
                 cell = row["tasks"][task]
-                points = "" if cell["points"] is None else f"<br><small>{cell['points']:g}/{cell['max_points']:g}" \
-                                                           f" · {cell['attempts']}×</small>"
-                cells.append(f'<td class="{cell["status"].replace(" ", "-")}">{cell["status"]}{points}</td>')
-            activity = html.escape(row["last_activity"][:19].replace("T", " ")) or "never"
-            body.append(f"<tr><th>{html.escape(row['name'])}</th><td>{html.escape(row['server'])}</td>"
-                        f"<td>{activity}</td>{''.join(cells)}</tr>")
+                tip = cell["status"] if cell["points"] is None else \
+                    f"{cell['status']}: {cell['points']:g}/{cell['max_points']:g} points, {cell['attempts']} check(s)"
+                points = "" if cell["points"] is None else f" <small>{cell['points']:g}</small>"
+                cells.append(f'<td class="{cell["status"].replace(" ", "-")}" title="{tip}">'
+                             f'{marks[cell["status"]]}{points}</td>')
+            body.append(f"<tr><th>{html.escape(row['name'])}</th><td class=\"server-{row['server']}\">"
+                        f"{html.escape(row['server'])}</td><td>{_ago(row['last_activity'], self.made_at)}</td>"
+                        f"{''.join(cells)}</tr>")
         reasons = []
         for task in sorted(self.reasons):
-            items = "".join(f"<li><b>{n}</b> × <code>{html.escape(c)}</code>: {html.escape(r) or '(no reason)'}</li>"
-                            for c, r, n in self.reasons[task])
-            reasons.append(f"<h3>task {task}</h3><ul>{items}</ul>")
+            items = "".join(f"<li><b>{n}</b> × <code>{html.escape(c)}</code>: {html.escape(r) or '(no reason given)'}"
+                            f"</li>" for c, r, n in self.reasons[task])
+            name = html.escape(titles.get(task, f"task {task}"))
+            reasons.append(f"<h3>{name}</h3><ul>{items}</ul>")
         counts = Counter(c["status"] for r in self.learners for c in r["tasks"].values())
-        summary = " · ".join(f"{counts[s]} {s}" for s in ("passed", "working", "stuck", "not started"))
+        legend = " ".join(f'<span class="{s.replace(" ", "-")}">{marks[s]} {s} ({counts[s]})</span>'
+                          for s in ("passed", "working", "stuck", "not started"))
         return f"""<!doctype html><html><head><meta charset="utf-8">
-<meta http-equiv="refresh" content="{refresh_s}"><title>rrbot_workshop: the room</title><style>
-body{{font-family:sans-serif;margin:1.5em}} table{{border-collapse:collapse}}
-th,td{{border:1px solid #ccc;padding:.3em .6em;text-align:left;vertical-align:top}}
-.passed{{background:#c8f0c8}} .working{{background:#fff3c4}} .stuck{{background:#f8c4c4}}
-.not-started{{color:#888}} small{{color:#555}}</style></head><body>
-<h1>The room</h1><p>{len(self.learners)} learner(s) · {summary} · made {made} · reloads every {refresh_s} s</p>
-<table><tr><th>learner</th><th>server</th><th>last activity (UTC)</th>{head}</tr>{''.join(body)}</table>
+<meta http-equiv="refresh" content="{refresh_s}"><title>The room: rrbot_workshop</title><style>
+body{{font-family:system-ui,sans-serif;margin:1.2em;color:#222}} table{{border-collapse:collapse;margin:.6em 0}}
+th,td{{border:1px solid #ddd;padding:.25em .5em;text-align:center}} tr th:first-child{{text-align:left}}
+.passed{{background:#c9efc9}} .working{{background:#fff1bf}} .stuck{{background:#f7b9b9;font-weight:bold}}
+.not-started{{color:#aaa}} .legend span{{padding:.15em .5em;margin-right:.3em;border-radius:.3em}}
+.server-ready{{color:#176317}} .server-stopped{{color:#999}} small{{color:#555}} li{{margin:.2em 0}}
+code{{background:#f3f3f3;padding:0 .2em}}</style></head><body>
+<h1>The room</h1>
+<p>{len(self.learners)} learner(s) · made at {made} · reloads every {refresh_s} s</p>
+<p class="legend">{legend}; stuck: the same check failing for {STUCK_AFTER_S // 60} min or more</p>
+<table><tr><th>learner</th><th>server</th><th>last active</th>{head}</tr>{''.join(body)}</table>
 <h2>Most common reasons among those who tried</h2>{''.join(reasons) or '<p>none yet</p>'}
 </body></html>"""
 
 
-def make_app(results: Results, prefix: str, api_url: str, token: str, tasks: list[int], group: str = "",
+def _ago(stamp: str, now: float) -> str:
+    """A hub time stamp (ISO 8601, UTC) as "N min ago"; "never" if none."""
+    if not stamp:
+        return "never"
+    from datetime import datetime
+
+    try:
+        when = datetime.fromisoformat(stamp.replace("Z", "+00:00")).timestamp()
+    except ValueError:
+        return html.escape(stamp)
+    minutes = max(0, int((now - when) // 60))
+    return "just now" if minutes == 0 else f"{minutes} min ago"
+
+
+def make_app(results: Results, prefix: str, api_url: str, token: str, tasks: dict[int, str], group: str = "",
              hub_auth: Any = None) -> Any:
     """The tornado application: ``POST <prefix>api/results``, ``GET <prefix>`` and ``<prefix>api/status``.
 
@@ -224,7 +253,7 @@ def make_app(results: Results, prefix: str, api_url: str, token: str, tasks: lis
         prefix: The service's URL prefix (``/services/<name>/``).
         api_url: The hub's API (``.../hub/api``), reached with ``token``.
         token: The service's own API token (listing users, reading their servers).
-        tasks: The tasks to show even before anyone tried them.
+        tasks: The tasks to show even before anyone tried them: number -> name.
         group: A hub group whose members may see the page (hub admins always may).
         hub_auth: JupyterHub's ``HubOAuth`` for the page (made from the environment if None).
     """
@@ -275,12 +304,12 @@ def make_app(results: Results, prefix: str, api_url: str, token: str, tasks: lis
             if not model or not (model.get("admin") or (group and group in model.get("groups", []))):
                 raise web.HTTPError(403, "the live view is for the room's instructors")
             users = await hub_get("users", token) or []
-            return RoomView.build(results, users, tasks, time.time(), hidden=set())
+            return RoomView.build(results, users, list(tasks), time.time(), hidden=set())
 
     class PageHandler(ViewHandler):
         @web.authenticated
         async def get(self) -> None:
-            self.finish((await self.view()).html())
+            self.finish((await self.view()).html(titles=tasks))
 
     class StatusHandler(ViewHandler):
         @web.authenticated
@@ -303,6 +332,7 @@ def serve(state: Path | None, ip: str | None, port: int | None, group: str, name
     """
     from tornado import ioloop
 
+    from rrbot_workshop.course import tracks
     from rrbot_workshop.course.grading.runner import graded_tasks
     from rrbot_workshop.exceptions import CourseError
 
@@ -318,7 +348,9 @@ def serve(state: Path | None, ip: str | None, port: int | None, group: str, name
     os.environ.setdefault("JUPYTERHUB_OAUTH_CALLBACK_URL", prefix + "oauth_callback")
     os.environ.setdefault("JUPYTERHUB_BASE_URL", "/")
     where = urllib.parse.urlparse(os.environ.get("JUPYTERHUB_SERVICE_URL", "http://127.0.0.1:10101"))
-    app = make_app(Results(state), prefix, api_url.rstrip("/"), token, graded_tasks(), group)
+    names = tracks.task_names()
+    tasks = {task: names.get(task, f"task {task}") for task in graded_tasks()}
+    app = make_app(Results(state), prefix, api_url.rstrip("/"), token, tasks, group)
     app.listen(port or where.port or 10101, address=ip or where.hostname or "127.0.0.1")
     logger.info("rrbot-class: the live view at %s on %s:%s", prefix, ip or where.hostname, port or where.port)
     ioloop.IOLoop.current().start()

@@ -34,6 +34,7 @@ import pytest
 from browser_driver import CHROMIUM, Browser, unavailable
 
 from rrbot_workshop.classroom.class_report import build_report
+from rrbot_workshop.classroom.hub import server_state
 from rrbot_workshop.classroom.room import SERVICE, VERSION_WARNING, LearnerRun, Room, portable_python
 from rrbot_workshop.cli import main
 
@@ -104,6 +105,8 @@ class RoomRecord:
     left: list[str] = field(default_factory=list)
     accounts: list[str] = field(default_factory=list)
     workspaces: dict[str, dict[str, Any]] = field(default_factory=dict)
+    warm: int = -1
+    warmed: dict[str, str] = field(default_factory=dict)
     report: Any = None
 
 
@@ -179,9 +182,9 @@ def _browser(room: Room, record: RoomRecord, folder: Path) -> None:
                        document.querySelector('#password_input').value = {json.dumps(room.instructor_password)};
                        document.querySelector('form').submit(); true""")
         browser.wait_for("location.pathname.startsWith('/hub/') && !location.pathname.startsWith('/hub/login')",
-                         60, "the hub to log the instructor in")
+                         what="the hub to log the instructor in")
         browser.open(f"{room.url}/services/{SERVICE}/")
-        browser.wait_for("document.querySelector('table') !== null", 60, "the live view's table")
+        browser.wait_for("document.querySelector('table') !== null", what="the live view's table")
         record.page_text = browser.js("document.body.innerText")
         record.screenshot = browser.screenshot(folder / f"live_view_{record.hub}.png")
     finally:
@@ -198,6 +201,14 @@ def room(request: pytest.FixtureRequest, room_base: Path, tmp_path_factory: pyte
         room.start()
         record.version = room.version()
         names = {room.name(n): solved for n, solved in LEARNERS.items()}
+        # the instructor warms the room before the learners arrive: every server started through the hub's API
+        for name in names:
+            room.add_account(name)
+        with pytest.MonkeyPatch.context() as mp:
+            mp.setenv("JUPYTERHUB_API_TOKEN", room.token)
+            record.warm = main(["room", "warm", "--hub", room.url, "--learners", *names, "--stagger", "0.5",
+                                "--at-once", "2", "--timeout", "300"])
+        record.warmed = {u["name"]: server_state(u).state for u in room.hub.users() if u["name"] in names}
         with ThreadPoolExecutor(max_workers=len(names)) as pool:
             futures = {name: pool.submit(room.learner_session, name, prepare=_solve if solved else None)
                        for name, solved in names.items()}
@@ -243,6 +254,13 @@ def test_hub_and_servers_agree_on_their_version(room: RoomRecord) -> None:
     servers = re.findall(r"Starting jupyterhub single-user server(?: extension)? version (\S+)", room.log)
     assert servers and set(servers) == {room.version}, servers
     assert VERSION_WARNING not in room.log
+
+
+def test_room_warm_starts_every_learners_server_before_they_arrive(room: RoomRecord) -> None:
+    assert room.warm == 0
+    assert room.warmed == {room.room.name(n): "ready" for n in LEARNERS}
+    for name in LEARNERS:  # the learner arrives to a running server: the hub says it is running already
+        assert room.runs[room.room.name(name)].server_status == 400
 
 
 def test_every_learner_runs_notebook_02_and_gets_the_right_grade(room: RoomRecord) -> None:
@@ -316,8 +334,8 @@ def test_the_live_view_opens_in_a_browser_and_reloads_itself(room: RoomRecord) -
     assert room.screenshot is not None and room.screenshot.stat().st_size > 10_000
     for learner in LEARNERS:
         assert room.room.name(learner) in room.page_text
-    assert "passed" in room.page_text and "working" in room.page_text and "not started" in room.page_text
-    assert "reloads every" in room.page_text and "made " in room.page_text
+    assert "✓ passed (" in room.page_text and "… working (1)" in room.page_text and "· not started (" in room.page_text
+    assert "reloads every" in room.page_text and "made at " in room.page_text
 
 
 def test_the_class_report_shows_the_room(room: RoomRecord) -> None:
