@@ -235,9 +235,10 @@ c.JupyterHub.services = [
 ]
 c.JupyterHub.load_roles = [
     {{"name": "room", "services": ["room"],
-      "scopes": ["admin:users", "admin:servers", "tokens", "access:servers", "list:users"]}},
+      "scopes": ["admin:users", "admin:servers", "tokens", "access:servers", "list:users", "admin:groups"]}},
     {{"name": {SERVICE!r}, "services": [{SERVICE!r}],
       "scopes": ["list:users", "read:users", "read:users:activity", "read:servers", "read:groups"]}},
+    {{"name": "{SERVICE}-viewers", "groups": ["instructors"], "scopes": ["access:services!service={SERVICE}"]}},
 ]
 c.JupyterHub.cleanup_servers = True
 """

@@ -304,7 +304,8 @@ def make_app(results: Results, prefix: str, api_url: str, token: str, tasks: dic
             if not model or not (model.get("admin") or (group and group in model.get("groups", []))):
                 raise web.HTTPError(403, "the live view is for the room's instructors")
             users = await hub_get("users", token) or []
-            return RoomView.build(results, users, list(tasks), time.time(), hidden=set())
+            staff = {u["name"] for u in users if group and group in u.get("groups", [])}
+            return RoomView.build(results, users, list(tasks), time.time(), hidden=staff)
 
     class PageHandler(ViewHandler):
         @web.authenticated

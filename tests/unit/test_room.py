@@ -98,6 +98,7 @@ class RoomRecord:
     isolation: list[str] = field(default_factory=list)
     status: dict[str, Any] = field(default_factory=dict)
     learner_view: int = 0
+    assistant_view: int = 0
     posts: dict[str, Any] = field(default_factory=dict)
     page_text: str = ""
     screenshot: Path | None = None
@@ -144,6 +145,12 @@ def _admin_page(room: Room, record: RoomRecord) -> None:
         record.page_text = _open(as_instructor, f"{room.url}/services/{SERVICE}/")[1].decode()
     if as_learner:
         record.learner_view = _open(as_learner, f"{room.url}/services/{SERVICE}/api/status")[0]
+    # a teaching assistant: a learner's password, a member of the hub group "instructors"
+    assistant = room.name("tess")
+    room.hub.request("POST", "users", {"usernames": [assistant]})
+    room.hub.request("POST", "groups/instructors/users", {"users": [assistant]})
+    as_assistant = room.login_form(assistant, room.room_password)
+    record.assistant_view = _open(as_assistant, f"{room.url}/services/{SERVICE}/api/status")[0] if as_assistant else 0
 
 
 def _forgeries(room: Room, record: RoomRecord) -> None:
@@ -306,6 +313,7 @@ def test_the_live_view_shows_each_learner_and_task_from_their_own_self_checks(ro
     rows = {row["name"]: row for row in room.status["learners"]}
     name = room.room.name
     assert sorted(rows) == sorted(name(n) for n in [*LEARNERS, "dan"])  # the instructor is not a learner
+    assert "tess" not in "".join(rows)  # read before the assistant joined
     for learner, solved in LEARNERS.items():
         row = rows[name(learner)]
         assert row["tasks"]["2"]["status"] == ("passed" if solved else "working")
@@ -328,6 +336,7 @@ def test_nobody_can_post_for_someone_else(room: RoomRecord) -> None:
 
 def test_the_live_view_is_for_instructors_only(room: RoomRecord) -> None:
     assert room.learner_view == 403
+    assert room.assistant_view == 200  # a member of the hub group "instructors"
 
 
 def test_the_live_view_opens_in_a_browser_and_reloads_itself(room: RoomRecord) -> None:

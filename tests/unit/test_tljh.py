@@ -230,8 +230,10 @@ def test_tljh_loads_the_hub_config_with_the_plugin_and_only_the_instructor_is_ad
     assert "--timeout=10800" in services["cull-idle"]["command"]
     assert set(services["rrbot-class"]) <= set(out["service_keys"])  # keys JupyterHub's Service knows
     assert services["rrbot-class"]["command"][:2] == ["/opt/tljh/user/bin/rrbot-workshop", "class-service"]
-    (role,) = out["roles"]
-    assert role["services"] == ["rrbot-class"] and set(role["scopes"]) <= set(out["scopes"])
+    service_role, viewers = out["roles"]
+    assert service_role["services"] == ["rrbot-class"] and set(service_role["scopes"]) <= set(out["scopes"])
+    assert viewers == {"name": "rrbot-class-viewers", "groups": ["instructors"],
+                       "scopes": ["access:services!service=rrbot-class"]}
 
 
 def test_the_installers_passwords_reach_the_hub(loaded) -> None:

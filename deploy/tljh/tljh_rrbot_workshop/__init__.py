@@ -58,6 +58,8 @@ SERVICE_URL = f"http://127.0.0.1:{SERVICE_PORT}"
 CLASS_SERVICE_ENV = "RRBOT_WORKSHOP_CLASS_SERVICE"
 #: What the service may read from the hub: the users, their servers and activity, their groups.
 SERVICE_SCOPES = ["list:users", "read:users", "read:users:activity", "read:servers", "read:groups"]
+#: The hub group whose members see the live view besides the admins (teaching assistants).
+INSTRUCTORS_GROUP = "instructors"
 
 
 @hookimpl
@@ -141,3 +143,6 @@ def tljh_custom_jupyterhub_config(c: Any) -> None:
         "display": True,
     })
     c.JupyterHub.load_roles.append({"name": SERVICE_NAME, "services": [SERVICE_NAME], "scopes": SERVICE_SCOPES})
+    # the hub lets a user through to a service's page only with this scope (admins have it for every service)
+    c.JupyterHub.load_roles.append({"name": f"{SERVICE_NAME}-viewers", "groups": [INSTRUCTORS_GROUP],
+                                    "scopes": [f"access:services!service={SERVICE_NAME}"]})
