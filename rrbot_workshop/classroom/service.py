@@ -352,6 +352,6 @@ def serve(state: Path | None, ip: str | None, port: int | None, group: str, name
     names = tracks.task_names()
     tasks = {task: names.get(task, f"task {task}") for task in graded_tasks()}
     app = make_app(Results(state), prefix, api_url.rstrip("/"), token, tasks, group)
-    app.listen(port or where.port or 10101, address=ip or where.hostname or "127.0.0.1")
+    app.listen(port or where.port or 10101, address=ip or where.hostname or "127.0.0.1", max_body_size=MAX_BODY)
     logger.info("rrbot-class: the live view at %s on %s:%s", prefix, ip or where.hostname, port or where.port)
     ioloop.IOLoop.current().start()
