@@ -133,10 +133,14 @@ def _open_regular(file: Any, mode: str = "r", *args: Any, **kwargs: Any) -> Any:
 def _xacro_sandbox() -> Iterator[None]:
     """Redirect ``$(find)`` to :func:`find_package` and restore every xacro global afterwards."""
 
+    found: dict[str, str] = {}  # one share folder per package for the whole run, as a sourced workspace gives
+
     def _eval_find(pkg: str) -> str:
         from rrbot_workshop.description.packages import share_directory
 
-        return str(share_directory(pkg))
+        if pkg not in found:
+            found[pkg] = str(share_directory(pkg))
+        return found[pkg]
 
     saved_find = _subst._eval_find
     saved_eval_find = _subst._eval_dict.get("find")
