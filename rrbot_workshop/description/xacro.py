@@ -272,6 +272,8 @@ CACHE_SIZE = 32
 _CACHE: OrderedDict[tuple[Any, ...], tuple[tuple[tuple[str, str], ...], tuple[tuple[str, str | None], ...], str]] = \
     OrderedDict()
 _ENV_RE = re.compile(r"\$\(\s*(?:env|optenv)\s+([^\s)]+)")
+#: An include by pattern (xacro expands globs): a file added later would change the expansion; not remembered.
+_GLOB_INCLUDE_RE = re.compile(r"<\s*xacro:include\b[^>]*filename\s*=\s*[\"'][^\"']*[*?\[]")
 
 
 def _digest(path: str) -> str:
@@ -313,7 +315,10 @@ def _remember(key: tuple[Any, ...], file: Path, includes: list[str], text: str) 
     for path in read:  # $(env NAME) and $(optenv NAME ...) in any of them: the value is part of the result
         try:
             if stat.S_ISREG(os.stat(path).st_mode):
-                names.update(_ENV_RE.findall(Path(path).read_text(errors="replace")))
+                text_read = Path(path).read_text(errors="replace")
+                if _GLOB_INCLUDE_RE.search(text_read):
+                    return
+                names.update(_ENV_RE.findall(text_read))
         except OSError:
             continue
     _CACHE[key] = (tuple((path, _digest(path)) for path in read),

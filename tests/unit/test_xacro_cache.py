@@ -83,3 +83,13 @@ def test_the_cache_keeps_only_so_many_expansions(counted: tuple[Path, list[str]]
     for side in ("a", "b", "c", "a"):
         process_xacro(top, side=side)
     assert len(course_xacro._CACHE) == 2 and len(runs) == 4  # "a" was pushed out by "c"
+
+
+def test_an_include_by_pattern_is_never_remembered(counted: tuple[Path, list[str]]) -> None:
+    """xacro expands a glob in an include's filename: a file added later changes the result."""
+    top, runs = counted
+    top.write_text(_TOP.replace("$(cwd)/part.xacro", f"{top.parent}/par*.xacro"))
+    assert 'name="part_a"' in process_xacro(top)
+    (top.parent / "part.xacro").write_text(_PART.replace("part_a", "part_b"))
+    (top.parent / "parts_more.xacro").write_text(_PART.replace("part", "more"))
+    assert 'name="part_b"' in process_xacro(top) and len(runs) == 2
