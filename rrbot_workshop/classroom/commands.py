@@ -33,9 +33,17 @@ def add_commands(sub: Any) -> dict[str, Callable[[argparse.Namespace], int]]:
     room.add_argument("workspaces", nargs="*", metavar="WORKSPACE",
                       help="learners' course folders or homes, or globs of them ('/home/*')")
     room.add_argument("--hub", metavar="URL", help="take the learners from this JupyterHub's user list (an API token "
-                                                   "allowed to list users in $JUPYTERHUB_API_TOKEN)")
-    room.add_argument("--home-template", metavar="PATH", default="/home/jupyter-{username}",
-                      help="with --hub: a learner's home (default TLJH's '/home/jupyter-{username}')")
+                                                   "allowed to list users in $JUPYTERHUB_API_TOKEN); names are taken "
+                                                   "literally")
+    room.add_argument("--home-template", metavar="PATH", default="tljh",
+                      help="with --hub: a learner's home, a path with {username} ('/home/{username}'), or 'tljh' for "
+                           "The Littlest JupyterHub's homes (/home/jupyter-<name>, long names cut as TLJH does; the "
+                           "default)")
+    room.add_argument("--stuck-after", metavar="MINUTES", type=float, default=10.0,
+                      help="a learner is stuck on a task when the same check has failed in every self-check of their "
+                           "own work for this long (default 10)")
+    room.add_argument("--course", metavar="COURSE", help="the course the workspaces were made from, whose exercises "
+                                                        "as handed out are not a start (default: the installed one)")
     room.add_argument("--out", metavar="DIR", required=True, help="folder for report.json, report.csv, report.html")
 
     service = sub.add_parser("class-service", help="the instructor's live view of a room on a JupyterHub: a hub "
@@ -50,6 +58,9 @@ def add_commands(sub: Any) -> dict[str, Callable[[argparse.Namespace], int]]:
                               "'instructors')")
     service.add_argument("--name", default="rrbot-class", help="the service's name on the hub (default "
                                                                 "'rrbot-class'; $JUPYTERHUB_SERVICE_NAME wins)")
+    service.add_argument("--stuck-after", metavar="MINUTES", type=float, default=10.0,
+                         help="a learner is stuck on a task when the same check has failed in every self-check of "
+                              "their own work for this long (default 10, as class-report)")
 
     room_cmd = sub.add_parser("room", help="the workshop room on a JupyterHub: 'room warm' starts every learner's "
                                            "server before the workshop")
@@ -145,20 +156,28 @@ def _cmd_singleuser(args: argparse.Namespace) -> int:
 
 
 def _cmd_class_report(args: argparse.Namespace) -> int:
-    from rrbot_workshop.classroom.class_report import build_report, hub_homes, write_report
+    from rrbot_workshop.classroom.class_report import build_report, hub_users, hub_workspaces, write_report
+    from rrbot_workshop.classroom.learner_logs import shown
 
-    patterns = list(args.workspaces)
-    if args.hub:
-        patterns += hub_homes(args.hub, os.environ.get("JUPYTERHUB_API_TOKEN", ""), args.home_template)
-    if not patterns:
+    if not args.workspaces and not args.hub:
         raise CourseError("class-report", "", "name the learners' workspaces ('/home/*') or a hub (--hub URL)")
-    report = build_report(patterns, missing_ok=bool(args.hub))
+    if not 0 <= args.stuck_after <= 10_000:  # also refuses nan
+        raise CourseError("--stuck-after", args.stuck_after, f"--stuck-after {args.stuck_after:g}: give a number of "
+                          "minutes from 0 to 10000")
+    notes: list[str] = []
+    found = []
+    if args.hub:
+        names = hub_users(args.hub, os.environ.get("JUPYTERHUB_API_TOKEN", ""))
+        found = hub_workspaces(names, args.home_template, notes)
+    report = build_report(list(args.workspaces), missing_ok=bool(args.hub), workspaces=found, notes=notes,
+                          stuck_after=args.stuck_after * 60.0,
+                          course=Path(args.course).expanduser() if args.course else None)
     paths = write_report(report, Path(args.out))
-    stuck = report.stuck()
     print(f"{len(report.learners)} learner(s); wrote {', '.join(str(p) for p in paths)}")
-    if stuck:
-        top = stuck[0]
-        print(f"Most learners stuck on: task {top['task']} {top['check']} ({top['learners_failing']} learner(s))")
+    top = next(iter(report.stuck()), None)
+    if top is not None and top["learners_stuck"]:
+        print(f"Most learners stuck on: task {top['task']} {shown(top['check'])} ({top['learners_stuck']} "
+              f"learner(s) for {args.stuck_after:g} min or more)")
     for note in report.notes:
         print(f"note: {note}")
     return 0
@@ -170,8 +189,12 @@ def _cmd_class_service(args: argparse.Namespace) -> int:
     from rrbot_workshop.classroom.service import serve
 
     logging.basicConfig(level=logging.INFO, format="[%(levelname)s %(asctime)s %(name)s] %(message)s")
+    if not 0 <= args.stuck_after <= 10_000:  # also refuses nan
+        raise CourseError("--stuck-after", args.stuck_after, f"--stuck-after {args.stuck_after:g}: give a number of "
+                          "minutes from 0 to 10000")
     try:
-        serve(Path(args.state) if args.state else None, args.ip, args.port, args.group, args.name)
+        serve(Path(args.state) if args.state else None, args.ip, args.port, args.group, args.name,
+              args.stuck_after * 60.0)
     except KeyboardInterrupt:  # the hub stops its services with SIGINT
         pass
     return 0

@@ -5,7 +5,8 @@ here with the learner's own hub token (:mod:`rrbot_workshop.course.grading.live_
 token it is and files the attempt under that name: the name in a request's body, if any, is ignored, so nobody can
 post for someone else. The page at the service's prefix is for instructors only (the hub's OAuth; a hub admin or a
 member of ``--group``), refreshes itself, and shows for each learner and task whether they have not started, are
-working, are stuck or have passed; each learner's last activity and server state (from the hub's REST API); the most
+working, are stuck or have passed (the class report's status model, :mod:`rrbot_workshop.classroom.task_status`:
+a self-check of the exercise as handed out is no start); each learner's last activity and server state (from the hub's REST API); the most
 common reasons among those who tried; and when it was made. ``api/status`` gives the same as JSON.
 
 It runs the same on The Littlest JupyterHub (a hub-managed service on 127.0.0.1, deploy/tljh) and on
@@ -28,6 +29,17 @@ from pathlib import Path
 from typing import Any
 
 from rrbot_workshop.classroom.hub import server_state
+from rrbot_workshop.classroom.task_status import (
+    DEFAULT_STUCK_AFTER_S,
+    NOT_STARTED,
+    PASSED,
+    STATUSES,
+    STUCK,
+    WORKING,
+    Attempt,
+    TaskState,
+    classify,
+)
 
 __all__ = ["Results", "RoomView", "validate_attempt", "make_app", "serve", "MAX_BODY", "REFRESH_S"]
 
@@ -37,12 +49,11 @@ logger = logging.getLogger(__name__)
 MAX_BODY = 64 * 1024
 #: How often the page reloads itself [s].
 REFRESH_S = 20
-#: A check failing this long, through every attempt since, makes a learner "stuck" [s].
-STUCK_AFTER_S = 10 * 60
 
 
 def validate_attempt(body: Any) -> dict[str, Any]:
-    """The attempt in a posted body, checked and trimmed; what the attempt log records.
+    """The attempt in a posted body, checked and trimmed as the status model reads attempt logs
+    (:meth:`~rrbot_workshop.classroom.task_status.Attempt.from_record`); its time is the service's, set on arrival.
 
     Raises:
         ValueError: If a field is missing or of the wrong kind; the message names it.
@@ -51,24 +62,13 @@ def validate_attempt(body: Any) -> dict[str, Any]:
         raise ValueError("the body must be a JSON object")
     task = body.get("task")
     if not isinstance(task, int) or isinstance(task, bool) or not 0 <= task <= 99:
-        raise ValueError("task: an integer from 0 to 99")
-    out: dict[str, Any] = {"task": task}
-    for key in ("score", "max_score"):
-        value = body.get(key)
-        if not isinstance(value, int | float) or isinstance(value, bool) or not 0 <= value <= 1e6:
-            raise ValueError(f"{key}: a number of points from 0 to 1e6")
-        out[key] = float(value)
-    failed = body.get("failed", [])
-    if not isinstance(failed, list) or len(failed) > 200 or not all(isinstance(f, str) for f in failed):
-        raise ValueError("failed: a list of at most 200 check names")
+        raise ValueError("'task' must be an integer from 0 to 99")
     reasons = body.get("reasons", {})
-    if not isinstance(reasons, dict) or len(reasons) > 200 or not all(
-            isinstance(k, str) and isinstance(v, str) for k, v in reasons.items()):
-        raise ValueError("reasons: an object of at most 200 check names -> reason")
-    out["failed"] = sorted(f[:200] for f in failed)
-    out["reasons"] = {k[:200]: v[:300] for k, v in reasons.items()}
-    out["version"] = str(body.get("version", ""))[:64]
-    return out
+    if not isinstance(reasons, dict) or not all(isinstance(k, str) and isinstance(v, str) for k, v in reasons.items()):
+        raise ValueError("'reasons' must be an object of check names -> reason")
+    attempt = Attempt.from_record({**body, "time": 0.0})
+    return {"task": task, "score": attempt.score, "max_score": attempt.max_score, "failed": list(attempt.failed),
+            "reasons": dict(attempt.reasons), "version": attempt.version}
 
 
 class Results:
@@ -112,21 +112,11 @@ class Results:
         return self._attempts
 
 
-def task_status(attempts: list[dict[str, Any]], now: float, stuck_after: float = STUCK_AFTER_S) -> str:
-    """``"not started"``, ``"working"``, ``"stuck"`` (one check failing through every attempt for ``stuck_after``
-    seconds or more) or ``"passed"`` (an attempt with every point)."""
-    if not attempts:
-        return "not started"
-    if any(a["max_score"] and a["score"] >= a["max_score"] for a in attempts):
-        return "passed"
-    failing = set(attempts[-1]["failed"])
-    since = attempts[-1]["time"]
-    for attempt in reversed(attempts):
-        failing &= set(attempt["failed"])
-        if not failing:
-            break
-        since = attempt["time"]
-    return "stuck" if failing and now - since >= stuck_after else "working"
+def _cell(state: TaskState) -> dict[str, Any]:
+    started = state.status != NOT_STARTED or state.attempts > 0
+    return {"status": state.status, "attempts": state.attempts,
+            "points": state.points if started else None, "max_points": state.max_points if started else None,
+            "stuck_on": list(state.stuck_on), "time_to_pass_s": state.time_to_pass_s}
 
 
 @dataclass
@@ -146,10 +136,22 @@ class RoomView:
     reasons: dict[int, list[tuple[str, str, int]]]
 
     @classmethod
-    def build(cls, results: Results, users: list[dict[str, Any]], tasks: list[int], now: float,
-              hidden: set[str]) -> RoomView:
-        """The view of ``results`` for the hub's ``users`` (admins and ``hidden`` names left out)."""
+    def build(cls, results: Results, users: list[dict[str, Any]], tasks: list[int], now: float, hidden: set[str],
+              untouched: dict[int, set[str]] | None = None, stuck_after: float = DEFAULT_STUCK_AFTER_S) -> RoomView:
+        """The view of ``results`` for the hub's ``users`` at time ``now``, each learner × task classified by the
+        class report's status model (:func:`~rrbot_workshop.classroom.task_status.classify`).
+
+        Args:
+            results: The posted attempts.
+            users: The hub's user models (``/hub/api/users``); admins and ``hidden`` names are left out.
+            tasks: Tasks to show even before anyone tried them.
+            now: The time the view is for [s since the epoch].
+            hidden: Names that are no learners (the instructors' group).
+            untouched: Per task, the versions of its exercise as handed out: self-checks of those are no start.
+            stuck_after: How long the same check must keep failing for "stuck" [s].
+        """
         posted = results.attempts()
+        untouched = untouched or {}
         names = {u["name"] for u in users if not u.get("admin") and u["name"] not in hidden}
         names |= set(posted) - hidden
         by_name = {u["name"]: u for u in users}
@@ -161,15 +163,12 @@ class RoomView:
             row: dict[str, Any] = {"name": name, "server": state.state, "last_activity": state.last_activity,
                                    "tasks": {}}
             for task in shown:
-                attempts = posted.get(name, {}).get(task, [])
-                status = task_status(attempts, now)
-                last = attempts[-1] if attempts else None
-                row["tasks"][task] = {"status": status, "attempts": len(attempts),
-                                      "points": last["score"] if last else None,
-                                      "max_points": last["max_score"] if last else None}
-                if last is not None and status != "passed":
-                    for check in last["failed"]:
-                        counts.setdefault(task, Counter())[(check, last["reasons"].get(check, ""))] += 1
+                records = [Attempt.from_record(a) for a in posted.get(name, {}).get(task, [])]
+                task_state = classify(records, now, stuck_after, untouched.get(task, ()))
+                row["tasks"][task] = _cell(task_state)
+                if task_state.status in (WORKING, STUCK):  # among those who tried: why their latest attempt failed
+                    for check, why in task_state.failing.items():
+                        counts.setdefault(task, Counter())[(check, why)] += 1
             rows.append(row)
         for task, counter in counts.items():
             reasons[task] = [(check, why, n) for (check, why), n in counter.most_common(5)]
@@ -181,17 +180,20 @@ class RoomView:
                 "reasons": {str(t): [{"check": c, "reason": r, "learners": n} for c, r, n in rows]
                             for t, rows in self.reasons.items()}}
 
-    def html(self, refresh_s: int = REFRESH_S, titles: dict[int, str] | None = None) -> str:
+    def html(self, refresh_s: int = REFRESH_S, titles: dict[int, str] | None = None,
+             stuck_after: float = DEFAULT_STUCK_AFTER_S) -> str:
         """The page: the table, the reasons, when it was made; it reloads itself every ``refresh_s`` seconds.
 
         Args:
             refresh_s: Seconds between two reloads.
             titles: Task number -> name, shown when the pointer rests on a task's column.
+            stuck_after: The stuck time the statuses were made with [s] (said in the legend).
         """
         titles = titles or {}
+        stuck_minutes = stuck_after / 60
         made = time.strftime("%H:%M:%S %Z, %Y-%m-%d", time.localtime(self.made_at))
         head = "".join(f'<th title="{html.escape(titles.get(t, ""))}">{t}</th>' for t in self.tasks)
-        marks = {"passed": "✓", "working": "…", "stuck": "!", "not started": "·"}
+        marks = {PASSED: "✓", WORKING: "…", STUCK: "!", NOT_STARTED: "·"}
         body = []
         for row in self.learners:
             cells = []
@@ -199,6 +201,9 @@ class RoomView:
                 cell = row["tasks"][task]
                 tip = cell["status"] if cell["points"] is None else \
                     f"{cell['status']}: {cell['points']:g}/{cell['max_points']:g} points, {cell['attempts']} check(s)"
+                if cell["stuck_on"]:
+                    tip += "; failing for a while: " + ", ".join(cell["stuck_on"])
+                tip = html.escape(tip)
                 points = "" if cell["points"] is None else f" <small>{cell['points']:g}</small>"
                 cells.append(f'<td class="{cell["status"].replace(" ", "-")}" title="{tip}">'
                              f'{marks[cell["status"]]}{points}</td>')
@@ -213,7 +218,7 @@ class RoomView:
             reasons.append(f"<h3>{name}</h3><ul>{items}</ul>")
         counts = Counter(c["status"] for r in self.learners for c in r["tasks"].values())
         legend = " ".join(f'<span class="{s.replace(" ", "-")}">{marks[s]} {s} ({counts[s]})</span>'
-                          for s in ("passed", "working", "stuck", "not started"))
+                          for s in reversed(STATUSES))
         return f"""<!doctype html><html><head><meta charset="utf-8">
 <meta http-equiv="refresh" content="{refresh_s}"><title>The room: rrbot_workshop</title><style>
 body{{font-family:system-ui,sans-serif;margin:1.2em;color:#222}} table{{border-collapse:collapse;margin:.6em 0}}
@@ -224,7 +229,8 @@ th,td{{border:1px solid #ddd;padding:.25em .5em;text-align:center}} tr th:first-
 code{{background:#f3f3f3;padding:0 .2em}}</style></head><body>
 <h1>The room</h1>
 <p>{len(self.learners)} learner(s) · made at {made} · reloads every {refresh_s} s</p>
-<p class="legend">{legend}; stuck: the same check failing for {STUCK_AFTER_S // 60} min or more</p>
+<p class="legend">{legend}; stuck: the same check failing for {stuck_minutes:g} min or more; a self-check of
+the exercise as handed out is no start</p>
 <table><tr><th>learner</th><th>server</th><th>last active</th>{head}</tr>{''.join(body)}</table>
 <h2>Most common reasons among those who tried</h2>{''.join(reasons) or '<p>none yet</p>'}
 </body></html>"""
@@ -245,7 +251,8 @@ def _ago(stamp: str, now: float) -> str:
 
 
 def make_app(results: Results, prefix: str, api_url: str, token: str, tasks: dict[int, str], group: str = "",
-             hub_auth: Any = None) -> Any:
+             hub_auth: Any = None, untouched: dict[int, set[str]] | None = None,
+             stuck_after: float = DEFAULT_STUCK_AFTER_S) -> Any:
     """The tornado application: ``POST <prefix>api/results``, ``GET <prefix>`` and ``<prefix>api/status``.
 
     Args:
@@ -256,6 +263,8 @@ def make_app(results: Results, prefix: str, api_url: str, token: str, tasks: dic
         tasks: The tasks to show even before anyone tried them: number -> name.
         group: A hub group whose members may see the page (hub admins always may).
         hub_auth: JupyterHub's ``HubOAuth`` for the page (made from the environment if None).
+        untouched: Per task, the versions of its exercise as handed out (self-checks of these are no start).
+        stuck_after: How long the same check must keep failing for "stuck" [s].
     """
     from jupyterhub.services.auth import HubOAuth, HubOAuthCallbackHandler, HubOAuthenticated
     from tornado import web
@@ -305,12 +314,13 @@ def make_app(results: Results, prefix: str, api_url: str, token: str, tasks: dic
                 raise web.HTTPError(403, "the live view is for the room's instructors")
             users = await hub_get("users", token) or []
             staff = {u["name"] for u in users if group and group in u.get("groups", [])}
-            return RoomView.build(results, users, list(tasks), time.time(), hidden=staff)
+            return RoomView.build(results, users, list(tasks), time.time(), hidden=staff, untouched=untouched,
+                                  stuck_after=stuck_after)
 
     class PageHandler(ViewHandler):
         @web.authenticated
         async def get(self) -> None:
-            self.finish((await self.view()).html(titles=tasks))
+            self.finish((await self.view()).html(titles=tasks, stuck_after=stuck_after))
 
     class StatusHandler(ViewHandler):
         @web.authenticated
@@ -325,7 +335,8 @@ def make_app(results: Results, prefix: str, api_url: str, token: str, tasks: dic
     ], hub_auth=auth, cookie_secret=os.urandom(32))
 
 
-def serve(state: Path | None, ip: str | None, port: int | None, group: str, name: str) -> None:
+def serve(state: Path | None, ip: str | None, port: int | None, group: str, name: str,
+          stuck_after: float = DEFAULT_STUCK_AFTER_S) -> None:
     """Run the service until it is stopped, configured from the hub's environment (``JUPYTERHUB_*``).
 
     Raises:
@@ -333,6 +344,7 @@ def serve(state: Path | None, ip: str | None, port: int | None, group: str, name
     """
     from tornado import ioloop
 
+    from rrbot_workshop.classroom.class_report import untouched_versions
     from rrbot_workshop.course import tracks
     from rrbot_workshop.course.grading.runner import graded_tasks
     from rrbot_workshop.exceptions import CourseError
@@ -351,7 +363,8 @@ def serve(state: Path | None, ip: str | None, port: int | None, group: str, name
     where = urllib.parse.urlparse(os.environ.get("JUPYTERHUB_SERVICE_URL", "http://127.0.0.1:10101"))
     names = tracks.task_names()
     tasks = {task: names.get(task, f"task {task}") for task in graded_tasks()}
-    app = make_app(Results(state), prefix, api_url.rstrip("/"), token, tasks, group)
+    app = make_app(Results(state), prefix, api_url.rstrip("/"), token, tasks, group,
+                   untouched=untouched_versions(tracks.course_root()), stuck_after=stuck_after)
     app.listen(port or where.port or 10101, address=ip or where.hostname or "127.0.0.1", max_body_size=MAX_BODY)
     logger.info("rrbot-class: the live view at %s on %s:%s", prefix, ip or where.hostname, port or where.port)
     ioloop.IOLoop.current().start()

@@ -257,6 +257,22 @@ def test_export_leaves_out_solutions_and_reset_works_from_its_archive(course: Pa
     assert (target / "exercises" / "task05_fake" / "answer.txt").read_text() == "TODO\n"
 
 
+@pytest.mark.parametrize("from_git", [True, False])
+def test_export_leaves_out_the_hidden_wrong_controllers_of_task16(course: Path, tmp_path: Path, from_git: bool) -> None:
+    hidden = course / "tests" / "tasks" / "task16_mutants"
+    hidden.mkdir()
+    (hidden / "update.py").write_text("class StateNotAdded: ...\n")
+    (course / "tests" / "tasks" / "task16_public_mutants.py").write_text("class SlowModeIgnored: ...\n")
+    if from_git:
+        _git(course, "init", "-q")
+        _git(course, "add", ".")
+        _git(course, "commit", "-q", "-m", "course")
+    target = export_student_copy(tmp_path / "student")
+    assert not (target / "tests" / "tasks" / "task16_mutants").exists()
+    assert (target / "tests" / "tasks" / "task16_public_mutants.py").is_file()
+    assert (target / "tests" / "tasks" / "test_task05_fake.py").is_file()
+
+
 def test_export_refuses_a_non_empty_folder(course: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     (tmp_path / "full").mkdir()
     (tmp_path / "full" / "x").write_text("")

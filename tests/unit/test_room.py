@@ -33,9 +33,10 @@ from typing import Any
 import pytest
 from browser_driver import CHROMIUM, Browser, unavailable
 
-from rrbot_workshop.classroom.class_report import build_report
+from rrbot_workshop.classroom.class_report import build_report, write_report
 from rrbot_workshop.classroom.hub import server_state
 from rrbot_workshop.classroom.room import SERVICE, VERSION_WARNING, LearnerRun, Room, portable_python
+from rrbot_workshop.classroom.task_status import PASSED, WORKING
 from rrbot_workshop.cli import main
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -48,13 +49,19 @@ ROOT_USER = hasattr(os, "geteuid") and os.geteuid() == 0
 pytestmark = [pytest.mark.slow,
               pytest.mark.skipif(not SOLUTION.is_dir(), reason="this copy of the course has no solutions/")]
 
-LEARNERS = {"ana": True, "ben": False, "cleo": True}  # name -> has solved task 2
+LEARNERS = {"ana": True, "ben": False, "cleo": True}  # name -> has solved task 2 (ben has started, no more)
 
 
 def _solve(workspace: Path) -> None:
     target = workspace / "exercises" / "task02_mock_hardware"
     shutil.rmtree(target)
     shutil.copytree(SOLUTION, target, ignore=shutil.ignore_patterns("__pycache__"))
+
+
+def _start(workspace: Path) -> None:
+    """A first change of the learner's own: a self-check of the exercise as handed out would not be a start."""
+    yaml = next((workspace / "exercises" / "task02_mock_hardware").rglob("*.yaml"))
+    yaml.write_text(yaml.read_text() + "\n# my first try\n")
 
 
 @pytest.fixture(scope="session")
@@ -109,6 +116,7 @@ class RoomRecord:
     warm: int = -1
     warmed: dict[str, str] = field(default_factory=dict)
     report: Any = None
+    report_html: str = ""
 
 
 def _open(opener: urllib.request.OpenerDirector, url: str) -> tuple[int, bytes]:
@@ -217,7 +225,7 @@ def room(request: pytest.FixtureRequest, room_base: Path, tmp_path_factory: pyte
                                 "--at-once", "2", "--timeout", "300"])
         record.warmed = {u["name"]: server_state(u).state for u in room.hub.users() if u["name"] in names}
         with ThreadPoolExecutor(max_workers=len(names)) as pool:
-            futures = {name: pool.submit(room.learner_session, name, prepare=_solve if solved else None)
+            futures = {name: pool.submit(room.learner_session, name, prepare=_solve if solved else _start)
                        for name, solved in names.items()}
             record.runs = {name: future.result() for name, future in futures.items()}
         room.login(room.name("dan"))  # a learner who never started a server: no workspace yet
@@ -234,6 +242,7 @@ def room(request: pytest.FixtureRequest, room_base: Path, tmp_path_factory: pyte
                          "--out", str(room.folder / "hub_report")])
         assert code == 0
         record.report = build_report([str(room.homes / "*")])
+        record.report_html = write_report(record.report, shots / "report")[2].read_text()
         for name in names:
             workspace = room.homes / name / "rrbot_workshop"
             log = workspace / "exercises" / ".progress" / "task02.json"
@@ -348,10 +357,14 @@ def test_the_live_view_opens_in_a_browser_and_reloads_itself(room: RoomRecord) -
 
 
 def test_the_class_report_shows_the_room(room: RoomRecord) -> None:
-    assert [lr.name for lr in room.report.learners] == sorted(room.room.name(n) for n in LEARNERS)
-    for learner in room.report.learners:
+    report = room.report
+    assert [lr.name for lr in report.learners] == sorted(room.room.name(n) for n in LEARNERS)
+    for learner in report.learners:
         solved = LEARNERS[learner.name.removeprefix(room.room.prefix)]
-        assert learner.tasks[2].passed is solved and learner.tasks[2].attempts == 1
+        assert learner.state(2).status == (PASSED if solved else WORKING) and learner.state(2).attempts == 1
+        assert learner.last_activity is not None and learner.notes == []
+    assert report.stuck() == []  # ben's check has failed for less than ten minutes
+    assert room.room.name("ben") in room.report_html
 
 
 def test_the_class_report_can_take_the_learners_from_the_hubs_user_list(room: RoomRecord) -> None:

@@ -69,7 +69,8 @@ REFERENCES: tuple[LibraryReference, ...] = (
                      "a complete DisplacementController with its parameter validator",
                      module="rrbot_workshop.controllers.displacement",
                      tests=("tests/unit/test_displacement_controller.py",),
-                     notebooks=("notebooks/08_write_a_controller.ipynb",)),
+                     # notebook 16 runs the learner's task-8 class, or this one while it is unfinished
+                     notebooks=("notebooks/08_write_a_controller.ipynb", "notebooks/16_test_your_controller.ipynb")),
     LibraryReference("rrbot_workshop/motion.py", (13,),
                      "jerk_limited_trajectory(): limits, ruckig planning and sampling as a JointTrajectory",
                      module="rrbot_workshop.motion", tests=("tests/unit/test_motion.py",),
