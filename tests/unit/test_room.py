@@ -363,7 +363,9 @@ def test_the_class_report_shows_the_room(room: RoomRecord) -> None:
         solved = LEARNERS[learner.name.removeprefix(room.room.prefix)]
         assert learner.state(2).status == (PASSED if solved else WORKING) and learner.state(2).attempts == 1
         assert learner.last_activity is not None and learner.notes == []
-    assert report.stuck() == []  # ben's check has failed for less than ten minutes
+    failing = report.stuck()  # ben's failing checks, none for ten minutes yet
+    assert failing and all(r["task"] == 2 and r["learners_failing"] == 1 and r["learners_stuck"] == 0
+                           for r in failing)
     assert room.room.name("ben") in room.report_html
 
 
