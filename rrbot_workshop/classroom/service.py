@@ -33,7 +33,6 @@ from rrbot_workshop.classroom.task_status import (
     DEFAULT_STUCK_AFTER_S,
     NOT_STARTED,
     PASSED,
-    STATUSES,
     STUCK,
     WORKING,
     Attempt,
@@ -218,7 +217,7 @@ class RoomView:
             reasons.append(f"<h3>{name}</h3><ul>{items}</ul>")
         counts = Counter(c["status"] for r in self.learners for c in r["tasks"].values())
         legend = " ".join(f'<span class="{s.replace(" ", "-")}">{marks[s]} {s} ({counts[s]})</span>'
-                          for s in reversed(STATUSES))
+                          for s in (PASSED, WORKING, STUCK, NOT_STARTED))
         return f"""<!doctype html><html><head><meta charset="utf-8">
 <meta http-equiv="refresh" content="{refresh_s}"><title>The room: rrbot_workshop</title><style>
 body{{font-family:system-ui,sans-serif;margin:1.2em;color:#222}} table{{border-collapse:collapse;margin:.6em 0}}
