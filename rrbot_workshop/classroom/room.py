@@ -64,14 +64,16 @@ def _open_to_all(path: Path) -> bool:
     return all(parent.stat().st_mode & 0o001 for parent in path.parents)
 
 
-def portable_python(folder: Path, python: str = sys.executable, force: bool = False) -> str:
+def portable_python(folder: Path, python: str = sys.executable, force: bool = False, open_to_all: bool = True) -> str:
     """A Python any account can run, with the packages of ``python``.
 
     ``python`` itself when every account can run it (and ``force`` is not set); else a venv in ``folder`` over a
     system interpreter of the same version that others can run (``/usr/bin/python3.X``, ...), whose ``.pth`` file adds
     ``python``'s site-packages after its own (so what is installed in the venv wins), with ``python``'s
     ``configurable-http-proxy`` beside it. A course installed under a private home (a pyenv Python under ``/root``)
-    thus runs as the learners' accounts, as the course installed in ``/opt`` does on a real hub.
+    thus runs as the learners' accounts, as the course installed in ``/opt`` does on a real hub. With
+    ``open_to_all`` False, the venv is made over this Python when no other will do (a venv of its own, for packages
+    installed over ``python``'s, but for this user only).
 
     Raises:
         FileNotFoundError: If no interpreter of that version can be run by every account.
@@ -82,7 +84,7 @@ def portable_python(folder: Path, python: str = sys.executable, force: bool = Fa
         return python
     version = f"{sys.version_info.major}.{sys.version_info.minor}"
     base = next((c for c in (f"/usr/bin/python{version}", f"/usr/local/bin/python{version}", sys.executable)
-                 if _open_to_all(Path(c))), None)
+                 if _open_to_all(Path(c))), None if open_to_all else sys.executable)
     if base is None:
         raise FileNotFoundError(f"no Python {version} that every account can run (/usr/bin/python{version}?)")
     subprocess.run([base, "-m", "venv", "--without-pip", str(folder)], check=True, capture_output=True, timeout=120)
