@@ -1,4 +1,4 @@
-"""The classroom's commands of ``rrbot-workshop``: init, singleuser and class-report.
+"""The classroom's commands of ``rrbot-workshop``: init, singleuser, class-report, class-service and room.
 
 :func:`add_commands` adds them to the tool's parser (see :mod:`rrbot_workshop.cli`) and returns their handlers.
 """
@@ -18,7 +18,8 @@ __all__ = ["add_commands"]
 
 
 def add_commands(sub: Any) -> dict[str, Callable[[argparse.Namespace], int]]:
-    """Add init, singleuser and class-report to ``sub`` (argparse's sub-parsers); return their handlers."""
+    """Add init, singleuser, class-report, class-service and room to ``sub`` (argparse's sub-parsers); return their
+    handlers."""
     init = sub.add_parser("init", help="make (or update) a learner's workspace from the course installed for a room")
     init.add_argument("workspace", nargs="?", metavar="DIR", help="the workspace (default ~/rrbot_workshop)")
     init.add_argument("--from", dest="source", metavar="COURSE",
@@ -44,7 +45,42 @@ def add_commands(sub: Any) -> dict[str, Callable[[argparse.Namespace], int]]:
     room.add_argument("--course", metavar="COURSE", help="the course the workspaces were made from, whose exercises "
                                                         "as handed out are not a start (default: the installed one)")
     room.add_argument("--out", metavar="DIR", required=True, help="folder for report.json, report.csv, report.html")
-    return {"init": _cmd_init, "singleuser": _cmd_singleuser, "class-report": _cmd_class_report}
+
+    service = sub.add_parser("class-service", help="the instructor's live view of a room on a JupyterHub: a hub "
+                                                   "service that learners' self-checks report to (see deploy/)")
+    service.add_argument("--state", metavar="FILE", help="keep the results in this JSON-lines file (read back at "
+                                                         "start); default: in memory only")
+    service.add_argument("--ip", help="address to listen on (default: the one in $JUPYTERHUB_SERVICE_URL, else "
+                                      "127.0.0.1)")
+    service.add_argument("--port", type=int, help="port (default: the one in $JUPYTERHUB_SERVICE_URL, else 10101)")
+    service.add_argument("--group", default="instructors",
+                         help="members of this hub group see the room too (hub admins always do; default "
+                              "'instructors')")
+    service.add_argument("--name", default="rrbot-class", help="the service's name on the hub (default "
+                                                                "'rrbot-class'; $JUPYTERHUB_SERVICE_NAME wins)")
+    service.add_argument("--stuck-after", metavar="MINUTES", type=float, default=10.0,
+                         help="a learner is stuck on a task when the same check has failed in every self-check of "
+                              "their own work for this long (default 10, as class-report)")
+
+    room_cmd = sub.add_parser("room", help="the workshop room on a JupyterHub: 'room warm' starts every learner's "
+                                           "server before the workshop")
+    room_sub = room_cmd.add_subparsers(dest="room_command", required=True, metavar="{warm}")
+    warm = room_sub.add_parser("warm", help="make the learners (if missing) and start their servers through the "
+                                            "hub's API, a few at a time (an admin's token in $JUPYTERHUB_API_TOKEN)")
+    warm.add_argument("--hub", metavar="URL", required=True, help="the hub's URL")
+    who = warm.add_mutually_exclusive_group(required=True)
+    who.add_argument("--learners", nargs="+", metavar="NAME", help="the learners' user names")
+    who.add_argument("--learners-file", metavar="FILE", help="a file with one user name per line")
+    who.add_argument("--count", type=int, metavar="N", help="N learners named PREFIX01, PREFIX02, ...")
+    warm.add_argument("--prefix", default="learner", help="with --count: the names' prefix (default 'learner')")
+    warm.add_argument("--stagger", type=float, default=2.0, metavar="S",
+                      help="seconds between two starts (default 2)")
+    warm.add_argument("--at-once", type=int, default=4, metavar="N",
+                      help="most servers starting at the same time (default 4)")
+    warm.add_argument("--timeout", type=float, default=900.0, metavar="S",
+                      help="longest wait for the whole room (default 900 s)")
+    return {"init": _cmd_init, "singleuser": _cmd_singleuser, "class-report": _cmd_class_report,
+            "class-service": _cmd_class_service, "room": _cmd_room}
 
 
 def _report_lines(result: Any) -> list[str]:
@@ -145,3 +181,53 @@ def _cmd_class_report(args: argparse.Namespace) -> int:
     for note in report.notes:
         print(f"note: {note}")
     return 0
+
+
+def _cmd_class_service(args: argparse.Namespace) -> int:
+    import logging
+
+    from rrbot_workshop.classroom.service import serve
+
+    logging.basicConfig(level=logging.INFO, format="[%(levelname)s %(asctime)s %(name)s] %(message)s")
+    if not 0 <= args.stuck_after <= 10_000:  # also refuses nan
+        raise CourseError("--stuck-after", args.stuck_after, f"--stuck-after {args.stuck_after:g}: give a number of "
+                          "minutes from 0 to 10000")
+    try:
+        serve(Path(args.state) if args.state else None, args.ip, args.port, args.group, args.name,
+              args.stuck_after * 60.0)
+    except KeyboardInterrupt:  # the hub stops its services with SIGINT
+        pass
+    return 0
+
+
+def _learner_names(args: argparse.Namespace) -> list[str]:
+    if args.count is not None:
+        if not 1 <= args.count <= 1000:
+            raise CourseError("--count", args.count, "a room has 1 to 1000 learners")
+        return [f"{args.prefix}{i:02d}" for i in range(1, args.count + 1)]
+    if args.learners_file:
+        try:
+            text = Path(args.learners_file).read_text()
+        except OSError as exc:
+            raise CourseError("--learners-file", args.learners_file, f"cannot read {args.learners_file}: {exc}") from exc
+        return [line.strip() for line in text.splitlines() if line.strip() and not line.startswith("#")]
+    return list(args.learners)
+
+
+def _cmd_room(args: argparse.Namespace) -> int:
+    from rrbot_workshop.classroom.hub import HubAPI, warm_room
+
+    token = os.environ.get("JUPYTERHUB_API_TOKEN", "")
+    if not token:
+        raise CourseError("JUPYTERHUB_API_TOKEN", "", "room warm needs an admin's API token in $JUPYTERHUB_API_TOKEN "
+                          "(the hub's token page, /hub/token, logged in as the instructor)")
+    names = _learner_names(args)
+    if not names:
+        raise CourseError("learners", "", "no learner named")
+    if args.stagger < 0 or args.at_once < 1 or args.timeout <= 0:
+        raise CourseError("room warm", "", "--stagger must be 0 or more, --at-once 1 or more, --timeout above 0")
+    states = warm_room(HubAPI(args.hub, token), names, args.stagger, args.at_once, args.timeout)
+    not_ready = sorted(n for n in names if states.get(n) is None or states[n].state != "ready")
+    if not_ready:
+        print(f"not ready: {', '.join(not_ready)}")
+    return 1 if not_ready else 0

@@ -328,9 +328,13 @@ def _fill(src: Path, workspace: Path, result: InitResult, now: float | None) -> 
 
 def singleuser_command(workspace: Path, args: list[str]) -> list[str]:
     """The JupyterHub single-user server for a learner: JupyterLab at their workspace, opening their intro, with the
-    same hidden folders as on a laptop (``args`` are the spawner's)."""
-    from rrbot_workshop.classroom.launcher import HIDDEN
+    same hidden folders as on a laptop (``args`` are the spawner's). It is the hub's ``jupyterhub-singleuser`` of
+    this Python, started lighter (:mod:`rrbot_workshop.classroom.server`)."""
+    import sys
 
-    return ["jupyterhub-singleuser", f"--ServerApp.root_dir={workspace}",
+    from rrbot_workshop.classroom.launcher import HIDDEN
+    from rrbot_workshop.classroom.server import extension_args
+
+    return [sys.executable, "-m", "rrbot_workshop.classroom.server", f"--ServerApp.root_dir={workspace}",
             "--ServerApp.default_url=/lab/tree/my_notebooks/00_intro.ipynb",
-            f"--ContentsManager.hide_globs={list(HIDDEN)!r}", *args]
+            f"--ContentsManager.hide_globs={list(HIDDEN)!r}", *extension_args(), *args]

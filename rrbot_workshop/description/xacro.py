@@ -13,17 +13,25 @@ The ``xacro`` package does the work. Two of its habits need care outside ROS:
 
 Xacro keeps module-level state (file stack, verbosity, substitution arguments); a lock serialises calls and every
 piece of state we touch is restored afterwards.
+
+Expansions are remembered (:data:`CACHE_SIZE` of them): the same file with the same arguments and package path,
+whose every file read (the file, its includes, the YAML it loads) still has the same contents and whose
+``$(env ...)``/``$(optenv ...)`` variables have the same values, gives the text made before without running xacro
+again. A grader expands the same description for many checks; a learner
+who edits an included file gets a fresh expansion, since the contents are compared, not the times.
 """
 
 from __future__ import annotations
 
 import errno
+import hashlib
 import logging
 import os
 import re
 import stat
 import threading
 import xml.parsers.expat
+from collections import OrderedDict
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
@@ -258,6 +266,67 @@ def _as_description_error(err: Exception, file: Path) -> DescriptionError:
     return DescriptionError(f"xacro failed: {text}{where}", source=str(file))
 
 
+#: How many expansions :func:`process_xacro` remembers.
+CACHE_SIZE = 32
+#: (file, arguments, package path) -> (digest of each file read, the environment variables they read, the URDF).
+_CACHE: OrderedDict[tuple[Any, ...], tuple[tuple[tuple[str, str], ...], tuple[tuple[str, str | None], ...], str]] = \
+    OrderedDict()
+_ENV_RE = re.compile(r"\$\(\s*(?:env|optenv)\s+([^\s)]+)")
+#: An include by pattern (xacro expands globs): a file added later would change the expansion; not remembered.
+_GLOB_INCLUDE_RE = re.compile(r"<\s*xacro:include\b[^>]*filename\s*=\s*[\"'][^\"']*[*?\[]")
+
+
+def _digest(path: str) -> str:
+    """The digest of a regular file's contents; "" for anything else (a FIFO is never waited on)."""
+    try:
+        fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
+    except OSError:
+        return ""
+    try:
+        if not stat.S_ISREG(os.fstat(fd).st_mode):
+            return ""
+        with os.fdopen(os.dup(fd), "rb") as f:
+            return hashlib.sha256(f.read()).hexdigest()
+    except OSError:
+        return ""
+    finally:
+        os.close(fd)
+
+
+def _cache_key(file: Path, mappings: dict[str, str]) -> tuple[Any, ...]:
+    from rrbot_workshop.description.packages import package_path
+
+    return str(file), tuple(sorted(mappings.items())), tuple(str(p) for p in package_path())
+
+
+def _cached(key: tuple[Any, ...]) -> str | None:
+    """The remembered expansion for ``key`` if every file it read, and every variable those read, is unchanged."""
+    entry = _CACHE.get(key)
+    if entry is None or any(_digest(path) != digest for path, digest in entry[0]) or any(
+            os.environ.get(name) != value for name, value in entry[1]):
+        return None
+    _CACHE.move_to_end(key)
+    return entry[2]
+
+
+def _remember(key: tuple[Any, ...], file: Path, includes: list[str], text: str) -> None:
+    read = list(dict.fromkeys([str(file), *(str(i) for i in includes)]))
+    names: set[str] = set()
+    for path in read:  # $(env NAME) and $(optenv NAME ...) in any of them: the value is part of the result
+        try:
+            if stat.S_ISREG(os.stat(path).st_mode):
+                text_read = Path(path).read_text(errors="replace")
+                if _GLOB_INCLUDE_RE.search(text_read):
+                    return
+                names.update(_ENV_RE.findall(text_read))
+        except OSError:
+            continue
+    _CACHE[key] = (tuple((path, _digest(path)) for path in read),
+                   tuple((name, os.environ.get(name)) for name in sorted(names)), text)
+    while len(_CACHE) > CACHE_SIZE:
+        _CACHE.popitem(last=False)
+
+
 def process_xacro(path: str | Path, **mappings: Any) -> str:
     """Expand a xacro file into URDF text, as ``xacro file.xacro key:=value`` does.
 
@@ -281,11 +350,18 @@ def process_xacro(path: str | Path, **mappings: Any) -> str:
         raise DescriptionError(f"xacro file not found{hint}", source=str(file))
     file = file.resolve()
     str_mappings = {str(k): _mapping_value(v) for k, v in mappings.items()}
-    with _xacro_sandbox():
-        try:
-            doc = xacro.process_file(str(file), mappings=str_mappings, verbosity=0)
-        except Exception as err:  # noqa: BLE001 - xacro raises many types; all become DescriptionError
-            raise _as_description_error(err, file) from err
-        text = doc.toprettyxml(indent="  ")
+    key = _cache_key(file, str_mappings)
+    with _LOCK:
+        text = _cached(key)
+        if text is not None:
+            return text
+        with _xacro_sandbox():
+            try:
+                doc = xacro.process_file(str(file), mappings=str_mappings, verbosity=0)
+            except Exception as err:  # noqa: BLE001 - xacro raises many types; all become DescriptionError
+                raise _as_description_error(err, file) from err
+            text = doc.toprettyxml(indent="  ")
+            includes = list(xacro.all_includes)
+        _remember(key, file, includes, text)
     logger.debug("processed %s with %s", file, str_mappings)
     return text

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import shutil
+import sys
 from pathlib import Path
 
 import pytest
@@ -141,7 +142,7 @@ def test_init_refuses_what_is_not_a_course_or_would_overwrite_someone(installed:
 
 def test_the_single_user_server_opens_the_learners_workspace_without_solutions(tmp_path: Path) -> None:
     command = singleuser_command(tmp_path, ["--port=9999"])
-    assert command[0] == "jupyterhub-singleuser" and command[-1] == "--port=9999"
+    assert command[:3] == [sys.executable, "-m", "rrbot_workshop.classroom.server"] and command[-1] == "--port=9999"
     assert f"--ServerApp.root_dir={tmp_path}" in command
     hidden = next(a for a in command if a.startswith("--ContentsManager.hide_globs="))
     assert "'solutions'" in hidden and "'notebooks'" in hidden

@@ -64,7 +64,7 @@ def files_version(folder: Path) -> str:
 
 
 def record(task: int, score: float, max_score: float, failed: list[str], now: float | None = None,
-           version: str = "", reasons: dict[str, str] | None = None) -> None:
+           version: str = "", reasons: dict[str, str] | None = None) -> dict[str, Any]:
     """Append one attempt; never raises (a read-only course folder only loses the log).
 
     Args:
@@ -75,17 +75,22 @@ def record(task: int, score: float, max_score: float, failed: list[str], now: fl
         now: Time of the attempt (seconds since the epoch); default now.
         version: :func:`files_version` of the graded files.
         reasons: Why each failed check failed (for the instructor's room report), at most 300 characters each.
+
+    Returns:
+        The attempt as recorded.
     """
     data = load(task)
-    data["attempts"].append({"time": time.time() if now is None else now, "score": score, "max_score": max_score,
-                             "failed": sorted(failed), "version": version,
-                             "reasons": {k: str(v)[:300] for k, v in sorted((reasons or {}).items())}})
+    attempt = {"time": time.time() if now is None else now, "score": score, "max_score": max_score,
+               "failed": sorted(failed), "version": version,
+               "reasons": {k: str(v)[:300] for k, v in sorted((reasons or {}).items())}}
+    data["attempts"].append(attempt)
     path = log_path(task)
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
         path.write_text(json.dumps(data, indent=1) + "\n")
     except OSError:
         pass
+    return attempt
 
 
 def failures(task: int, check: str) -> int:

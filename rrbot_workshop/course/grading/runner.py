@@ -17,7 +17,7 @@ from pathlib import Path
 from typing import Any
 
 from rrbot_workshop.course import tracks
-from rrbot_workshop.course.grading import attempts
+from rrbot_workshop.course.grading import attempts, live_view
 from rrbot_workshop.course.grading.rubric import CheckResult, Rubric
 from rrbot_workshop.exceptions import CourseError, GradingError
 
@@ -186,8 +186,9 @@ def grade(
     if learner:
         failed = rubric.failed()
         reasons = {c.name: c.detail for c in failed}
-        attempts.record(task, rubric.score, rubric.max_score, [c.name for c in failed], version=version,
-                        reasons=reasons)
+        attempt = attempts.record(task, rubric.score, rubric.max_score, [c.name for c in failed], version=version,
+                                  reasons=reasons)
+        live_view.post_attempt(task, attempt)  # on a hub: to the instructor's live view, in the background
     return rubric
 
 
