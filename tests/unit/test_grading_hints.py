@@ -133,7 +133,7 @@ from rrbot_workshop.course.grading.rubric import fail_without_hint
 @graded(points=1, hint=("the answer is 1", "really 1", "write 1"))
 def test_prediction():
     if (tracks.task_dir(5) / "a.txt").read_text().strip() == "0":
-        fail_without_hint("a.txt: not predicted yet")
+        fail_without_hint("a.txt: not predicted yet", note="a hint would answer it")
     assert False, "wrong prediction"
 
 
@@ -146,7 +146,7 @@ def test_d():
 def test_a_failure_without_hint_shows_none_and_leaves_the_hint_to_the_next_cause(course: Path) -> None:
     (course / "tests" / "tasks" / "test_task05_fake.py").write_text(_HINTLESS)
     by = _checks(check(5, check_timeout=5.0))
-    assert by["prediction"].hint == "" and by["prediction"].detail == "a.txt: not predicted yet"
+    assert by["prediction"].hint == "" and by["prediction"].detail == "a.txt: not predicted yet (a hint would answer it)"
     assert by["d"].hint.startswith("d idea")
     _write(course, a="2")  # predicted, wrong: now its hint may come
     assert _checks(check(5, check_timeout=5.0))["prediction"].hint.startswith("the answer is 1")

@@ -259,6 +259,7 @@ class RubricCollector:
                 detail = f"in {call.when}: {detail}"
             if isinstance(exc, HintlessFailure) and entry["status"] != "failed":
                 entry["hintless"] = True  # a prediction not made yet: any hint would answer it
+                detail = f"{detail} ({exc.note})" if exc.note else detail
             self._fail(item.nodeid, detail)
         elif report.skipped:
             reason = report.longrepr[2] if isinstance(report.longrepr, tuple) else str(report.longrepr)

@@ -74,20 +74,33 @@ def graded(
 
 
 class HintlessFailure(AssertionError):
-    """A check's failure that shows no hint (see :func:`fail_without_hint`)."""
+    """A check's failure that shows no hint (see :func:`fail_without_hint`).
+
+    Attributes:
+        note: Why no hint is shown, added to the reason whatever it becomes (the learner's own error, when it is the
+            cause, takes the reason's place).
+    """
+
+    def __init__(self, reason: str, note: str = "") -> None:
+        super().__init__(reason)
+        self.note = note
 
 
-def fail_without_hint(reason: str) -> NoReturn:
+def fail_without_hint(reason: str, note: str = "") -> NoReturn:
     """Fail the running check with ``reason`` and no hint.
 
     For a failure where any hint would hand over the answer or has nothing left to teach: a prediction not made yet
     (its hint would state the outcome), or one changed after its outcome was shown. The check leaves the hint to the
     learner's next cause.
 
+    Args:
+        reason: Why the check failed.
+        note: Why it shows no hint (added to the reason in brackets).
+
     Raises:
         HintlessFailure: Always.
     """
-    raise HintlessFailure(reason)
+    raise HintlessFailure(reason, note)
 
 
 def check_spec(func: Callable[..., Any]) -> CheckSpec:
