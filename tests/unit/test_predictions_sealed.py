@@ -194,3 +194,81 @@ def test_no_hint_of_task_14_states_what_happens() -> None:
                 for answer in ("nobody changes", "nothing changes", "everything stays", "stay as", "as before",
                                "stays active", "stays inactive", "keeps its last command"):
                     assert answer not in level.lower(), f"a hint of {fault} ({part}) says what happens: {level}"
+
+
+# ------------------------------------------------------------------------------------------------------ task 6
+
+_T6_GUESS = '''
+
+PREDICTIONS = {name: {"accepted": True, "hardware": {"rrbot": "active"},
+                      "controllers": {"joint_state_broadcaster": "active", "forward_position_controller": "active",
+                                      "joint_trajectory_controller": "active"}}
+               for name in PREDICTIONS}
+'''
+
+
+def _task6_grader() -> object:
+    import importlib.util
+    import sys
+
+    path = REPO / "tests" / "tasks" / "test_task06_lifecycle.py"
+    spec = importlib.util.spec_from_file_location("task06_grader_sealed", path)
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = module
+    try:
+        spec.loader.exec_module(module)
+    finally:
+        sys.modules.pop(spec.name, None)
+    return module
+
+
+@pytest.fixture
+def course6(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
+    """A course folder with task 6's grader and its exercise as handed out (nothing predicted)."""
+    root = tmp_path / "course6"
+    (root / "tests" / "tasks").mkdir(parents=True)
+    for name in ("conftest.py", "test_task06_lifecycle.py"):
+        shutil.copy(REPO / "tests" / "tasks" / name, root / "tests" / "tasks" / name)
+    shutil.copytree(REPO / "exercises" / "task06_lifecycle", root / "exercises" / "task06_lifecycle")
+    monkeypatch.setenv(tracks.ROOT_ENV, str(root))
+    for env in (tracks.TRACK_ENV, tracks.TASK_ROOT_ENV, tracks.EXERCISES_ENV, attempts.ENV):
+        monkeypatch.delenv(env, raising=False)
+    tracks.set_track(None)
+    return root
+
+
+def test_notebook_06_shows_no_outcome_before_every_prediction_is_made_then_seals_them_first(
+        course6: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]) -> None:
+    grader = _task6_grader()
+    ran: list[bool] = []
+
+    def fake_request(name: str) -> dict[str, object]:
+        ran.append(name in sealed.seals(6))
+        return {"accepted": False, "controllers": dict.fromkeys(CONTROLLERS, "active"), "hardware": {"rrbot": "active"}}
+
+    monkeypatch.setattr(grader, "run_request", fake_request)
+    assert grader.outcomes_may_show() is False and "runs once you have predicted them all" in capsys.readouterr().out
+    grader.show_predictions()
+    assert ran == [] and "Predict every request first (0 of 7 made)" in capsys.readouterr().out
+    assert sealed.seals(6) == {}
+    file = course6 / "exercises" / "task06_lifecycle" / "lifecycle.py"
+    file.write_text(file.read_text() + _T6_GUESS)
+    grader.show_predictions()
+    assert ran and all(ran), "an outcome ran before the predictions were sealed"
+    assert "Your predictions are sealed as they are now" in capsys.readouterr().out
+    assert set(sealed.seals(6)) == set(grader.REQUESTS)
+    assert grader.outcomes_may_show() is True
+
+
+def test_a_task_6_prediction_changed_after_the_reveal_earns_nothing(course6: Path) -> None:
+    file = course6 / "exercises" / "task06_lifecycle" / "lifecycle.py"
+    file.write_text(file.read_text() + _T6_GUESS)
+    grader = _task6_grader()
+    sealed.seal(6, grader._file_predictions(), grader.REQUESTS, now=1.0)
+    file.write_text(file.read_text() + '\nPREDICTIONS["deactivate_the_hardware"]["accepted"] = False\n')
+    rubric = grade(6, check_timeout=60.0)
+    by = {c.name: c for c in rubric.checks}
+    changed = by["prediction_deactivate_the_hardware"]
+    assert "was changed after notebook 06 showed its outcome" in changed.detail and changed.hint == ""
+    assert all("changed after" not in c.detail for n, c in by.items() if n != "prediction_deactivate_the_hardware")
