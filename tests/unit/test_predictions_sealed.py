@@ -69,6 +69,9 @@ def test_nothing_is_sealed_for_the_solutions_track_or_with_the_log_switched_off(
     monkeypatch.setenv(attempts.ENV, "0")
     assert sealed.seal(14, {"nan_command": _guess("active", 0.0)}, ["nan_command"]) == []
     monkeypatch.delenv(attempts.ENV)
+    monkeypatch.setenv(tracks.TRACK_ENV, "solutions")  # the predictions read are the solution's, not the learner's
+    assert sealed.seal(14, {"nan_command": _guess("active", 0.0)}, ["nan_command"]) == []
+    monkeypatch.delenv(tracks.TRACK_ENV)
     monkeypatch.setenv(tracks.EXERCISES_ENV, str(course / "elsewhere"))  # the course's test command
     assert sealed.seal(14, {"nan_command": _guess("active", 0.0)}, ["nan_command"]) == []
     assert not (course / "exercises" / ".progress").exists()

@@ -111,8 +111,8 @@ def seals(task: int, folder: str | os.PathLike[str] | None = None) -> dict[str, 
 def seal(task: int, predictions: Mapping[str, Any] | None, names: Iterable[str], now: float | None = None) -> list[str]:
     """Seal the predictions of ``names`` as they are now, before their outcomes are shown; never raises.
 
-    Only the learner's own exercises are sealed (the exercises track, the attempt log switched on); a name already
-    sealed keeps its first seal. A prediction that is missing is sealed as missing (``null``).
+    Only the learner's own exercises are sealed (the current track is the exercises track, the attempt log switched
+    on); a name already sealed keeps its first seal. A prediction that is missing is sealed as missing (``null``).
 
     Args:
         task: Task number.
@@ -123,8 +123,8 @@ def seal(task: int, predictions: Mapping[str, Any] | None, names: Iterable[str],
     Returns:
         The names sealed by this call.
     """
-    if not attempts.recording_enabled("exercises", None):
-        return []
+    if tracks.current_track() != "exercises" or not attempts.recording_enabled("exercises", None):
+        return []  # the predictions read were not the learner's own (the solutions track), or nothing is recorded
     try:
         folder = _folder(task, "exercises")
     except Exception:  # noqa: BLE001 - no exercises folder in this copy: nothing of the learner's to seal
