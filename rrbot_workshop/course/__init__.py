@@ -12,7 +12,10 @@ from rrbot_workshop.course.learner import (
     run,
     short_error,
     shown,
+    step,
     task_file,
 )
+from rrbot_workshop.course.tracebacks import LearnerErrors
 
-__all__ = ["ask", "function", "load_module", "mine_or_reference", "run", "short_error", "shown", "task_file"]
+__all__ = ["ask", "function", "load_module", "mine_or_reference", "run", "short_error", "shown", "step", "task_file",
+           "LearnerErrors"]
