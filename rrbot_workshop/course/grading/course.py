@@ -25,7 +25,7 @@ from datetime import datetime
 from pathlib import Path, PurePosixPath
 
 from rrbot_workshop.course import tracks
-from rrbot_workshop.course.grading.references import readme_section, write_withheld_copy
+from rrbot_workshop.course.grading.references import instructor_only, readme_section, write_withheld_copy
 from rrbot_workshop.exceptions import CourseError
 
 __all__ = ["PRISTINE_ARCHIVE", "EXPORT_EXCLUDE", "ResetResult", "pristine_files", "reset_exercise",
@@ -266,8 +266,13 @@ def reset_exercise(task: int, *, now: datetime | None = None) -> ResetResult:
 def _ignore(root: Path) -> Callable[[str, list[str]], set[str]]:
     def ignore(directory: str, names: list[str]) -> set[str]:
         skipped = {n for n in names if n in EXPORT_EXCLUDE or n.endswith(".egg-info")}
-        if Path(directory).resolve() == root:
+        here = Path(directory).resolve()
+        if here == root:
             skipped |= {n for n in names if n in EXPORT_EXCLUDE_TOP}
+        rel = here.relative_to(root) if here.is_relative_to(root) else None
+        if rel is not None:
+            skipped |= {n for n in names if instructor_only((rel / n).as_posix())
+                        or instructor_only((rel / n).as_posix() + "/x")}
         return skipped
 
     return ignore
@@ -305,11 +310,13 @@ def _with_section(text: str, section: str) -> str:
 
 def _exported(rel: str) -> bool:
     parts = PurePosixPath(rel).parts
-    return not (parts[0] in EXPORT_EXCLUDE_TOP or any(p in EXPORT_EXCLUDE or p.endswith(".egg-info") for p in parts))
+    return not (parts[0] in EXPORT_EXCLUDE_TOP or any(p in EXPORT_EXCLUDE or p.endswith(".egg-info") for p in parts)
+                or instructor_only(rel))
 
 
 def export_student_copy(dest: str | os.PathLike[str], *, withhold_references: bool = False) -> Path:
-    """Write a copy of the course for learners, as released: the files committed at git ``HEAD``, no ``solutions/``.
+    """Write a copy of the course for learners, as released: the files committed at git ``HEAD``, no ``solutions/`` and
+    none of the graders' own wrong and right solutions (:data:`~rrbot_workshop.course.grading.references.INSTRUCTOR_ONLY`).
 
     The copy is built from git, never from the working tree, so an instructor's solved exercises or edits that are
     not committed never reach learners (:func:`uncommitted_changes` lists what was left out). The README loses its
