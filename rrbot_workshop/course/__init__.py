@@ -6,6 +6,7 @@ The names below are what notebook cells use to reach the learner's files (``rw.c
 library reference a cell would fall back on (``rw.course.is_withheld("rrbot_workshop.motion")``).
 """
 
+from rrbot_workshop.course.grading.references import is_withheld
 from rrbot_workshop.course.learner import (
     ask,
     function,
@@ -17,7 +18,6 @@ from rrbot_workshop.course.learner import (
     step,
     task_file,
 )
-from rrbot_workshop.course.grading.references import is_withheld
 from rrbot_workshop.course.tracebacks import LearnerErrors
 
 __all__ = ["ask", "function", "load_module", "mine_or_reference", "run", "short_error", "shown", "step", "task_file",

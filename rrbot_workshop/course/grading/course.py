@@ -25,7 +25,13 @@ from datetime import datetime
 from pathlib import Path, PurePosixPath
 
 from rrbot_workshop.course import tracks
-from rrbot_workshop.course.grading.references import instructor_only, readme_section, write_withheld_copy
+from rrbot_workshop.course.grading.references import (
+    README_END,
+    README_MARK,
+    instructor_only,
+    readme_section,
+    write_withheld_copy,
+)
 from rrbot_workshop.exceptions import CourseError
 
 __all__ = ["PRISTINE_ARCHIVE", "EXPORT_EXCLUDE", "ResetResult", "pristine_files", "reset_exercise",
@@ -303,7 +309,9 @@ def _student_readme(text: str) -> str:
 
 
 def _with_section(text: str, section: str) -> str:
-    """``text`` with ``section`` before its "## License" heading (at the end if it has none)."""
+    """``text`` with ``section`` before its "## License" heading (at the end if it has none), in place of the one an
+    earlier export wrote (a copy of a student copy)."""
+    text = re.sub(re.escape(README_MARK) + ".*?" + re.escape(README_END), "\n", text, flags=re.DOTALL)
     at = text.find("\n## License")
     return text.rstrip("\n") + "\n" + section if at < 0 else text[:at].rstrip("\n") + "\n" + section + text[at:]
 

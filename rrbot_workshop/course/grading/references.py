@@ -29,7 +29,8 @@ from dataclasses import dataclass
 from pathlib import Path, PurePosixPath
 
 __all__ = ["LibraryReference", "REFERENCES", "STAND_INS", "MANIFEST", "WITHHELD_SKIP", "INSTRUCTOR_ONLY", "readme_section",
-           "withheld", "is_withheld", "reference_or_skip", "write_withheld_copy", "instructor_only"]
+           "withheld", "is_withheld", "reference_or_skip", "write_withheld_copy", "instructor_only", "README_MARK",
+           "README_END"]
 
 #: What no student copy holds, with or without ``--withhold-references`` (course-relative POSIX patterns; a pattern
 #: ending in ``/`` is a folder): the graders' own wrong and right solutions. Each is written from ``solutions/`` or is a
@@ -60,6 +61,8 @@ WITHHELD_SKIP = "withheld:"
 
 #: Written at the root of a copy made with ``--withhold-references``: what it left out.
 MANIFEST = "WITHHELD.json"
+#: Around the sections :func:`readme_section` writes into a copy's README (a copy of a copy replaces them).
+README_MARK, README_END = "\n<!-- student copy -->", "<!-- /student copy -->\n"
 
 
 @dataclass(frozen=True)
@@ -265,7 +268,7 @@ def readme_section(withhold: bool) -> str:
     else:
         lines.append("An instructor can leave the Python references out of a copy: `rrbot-workshop export --student "
                      "DIR --withhold-references`.")
-    return "\n".join(lines) + "\n"
+    return README_MARK + "\n".join(lines) + "\n" + README_END
 
 
 def write_withheld_copy(target: Path) -> list[str]:
