@@ -79,7 +79,7 @@ def test_help_exits_0_and_an_unknown_command_exits_2(capsys: pytest.CaptureFixtu
 
     assert main(["--help"], root=ROOT) == 0 and "usage:" in capsys.readouterr().out
     assert main(["frobnicate"], root=ROOT) == 2 and "usage:" in capsys.readouterr().err
-    result = subprocess.run([str(ROOT / ".venv" / "bin" / "python"), "-m", "rrbot_workshop", "--help"],
+    result = subprocess.run([sys.executable, "-m", "rrbot_workshop", "--help"],  # the course's environment
                             capture_output=True, text=True, check=False, cwd=ROOT)
     assert result.returncode == 0 and result.stdout.startswith("usage:")
 
@@ -100,9 +100,14 @@ def test_the_test_command_compares_the_notebooks_on_the_exercises_and_runs_them_
     copy without the library's references runs its WITHHELD.json notebooks without comparing, and has no solutions."""
     from rrbot_workshop.classroom.launcher import planned_runs
 
-    runs = planned_runs(ROOT, {"X": "1"})
+    course = tmp_path / "course"
+    (course / "notebooks").mkdir(parents=True)
+    (course / "solutions").mkdir()
+    for name in ("01_a.ipynb", "02_b.ipynb"):
+        (course / "notebooks" / name).write_text("{}")
+    runs = planned_runs(course, {"X": "1"})
     assert [r[1][0] for r in runs] == ["--nbval", "--nbval-lax"]
-    assert "tests/unit" in runs[0][1] and "notebooks/02_mock_hardware.ipynb" in runs[0][1]
+    assert "tests/unit" in runs[0][1] and "notebooks/02_b.ipynb" in runs[0][1]
     assert runs[0][2]["RRBOT_WORKSHOP_TRACK"] == "exercises" and runs[1][2]["RRBOT_WORKSHOP_TRACK"] == "solutions"
     assert all(r[2]["X"] == "1" for r in runs)
 
