@@ -24,15 +24,13 @@ import io
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
+import control
 import numpy as np
+import yourdfpy
 
 from rrbot_workshop.exceptions import DescriptionError
-
-if TYPE_CHECKING:  # python-control (with scipy.signal and matplotlib) and yourdfpy (with trimesh) take ~3 s to import:
-    import control  # only the functions that compute with them import them, so measuring a step needs neither
-    import yourdfpy
 
 __all__ = [
     "JointPlant", "PidGains", "StepResponse", "joint_plant", "closed_loop", "predict_step", "step_metrics", "measure_step",
@@ -65,14 +63,10 @@ class JointPlant:
 
     def transfer_function(self) -> control.TransferFunction:
         """``P(s) = 1 / (J s^2 + b s + k)``: effort [N m] to position [rad]."""
-        import control
-
         return control.tf([1.0], [self.inertia, self.damping, self.gravity_stiffness])
 
     def state_space(self) -> control.StateSpace:
         """The plant with two outputs, position [rad] and velocity [rad/s] (what the PID reads)."""
-        import control
-
         a = [[0.0, 1.0], [-self.gravity_stiffness / self.inertia, -self.damping / self.inertia]]
         return control.ss(a, [[0.0], [1.0 / self.inertia]], [[1.0, 0.0], [0.0, 1.0]], [[0.0], [0.0]])
 
@@ -117,8 +111,6 @@ class StepResponse:
 
 
 def _urdf_model(urdf: str) -> yourdfpy.URDF:
-    import yourdfpy
-
     try:
         return yourdfpy.URDF.load(io.StringIO(urdf), build_scene_graph=True, load_meshes=False,
                                   build_collision_scene_graph=False, load_collision_meshes=False)
@@ -223,8 +215,6 @@ def closed_loop(plant: JointPlant, gains: PidGains, period: float) -> control.St
     Raises:
         ValueError: If the period is not positive.
     """
-    import control
-
     if not period > 0.0:
         raise ValueError(f"period must be a positive number of seconds, got {period}")
     sampled = control.c2d(plant.state_space(), period, method="zoh")
@@ -289,8 +279,6 @@ def predict_step(plant: JointPlant, gains: PidGains, period: float, step: float,
         start: Position before the step in [rad].
         duration: Length of the prediction in [s].
     """
-    import control
-
     loop = closed_loop(plant, gains, period)
     steps = int(round(duration / period))
     t = np.arange(steps + 1) * period
