@@ -36,7 +36,7 @@ from pathlib import Path
 
 __all__ = ["main", "SUPPORTED", "refresh_notebook_copies", "pristine_exercises", "planned_runs", "write_atomically",
            "move_aside", "make_folder", "clear_for_file", "unique_folder", "regular_file_bytes", "PARTIAL_SUFFIX",
-           "ASIDE_SUFFIX"]
+           "ASIDE_SUFFIX", "PYTHON_ENV", "course_env"]
 
 #: Python versions the course runs on (every pinned binary dependency ships wheels for them).
 SUPPORTED = ((3, 11), (3, 12), (3, 13))
@@ -66,12 +66,43 @@ def _stamp(root: Path) -> str:
     return hashlib.sha256((root / "pyproject.toml").read_bytes()).hexdigest()
 
 
+#: The Python of an environment already set up from the same ``pyproject.toml``, used instead of the course's own
+#: ``.venv`` (CI tests a student copy it exported with the environment it installed): the course's folder then comes
+#: first on ``PYTHONPATH``, so its own ``rrbot_workshop`` is the one imported, and ``setup`` checks that it is.
+PYTHON_ENV = "RRBOT_WORKSHOP_PYTHON"
+
+
+def _given_environment(root: Path, python: Path) -> Path:
+    """The Python named by :data:`PYTHON_ENV`, once it is shown to be set up from this course's pyproject.toml and to
+    import this course's package."""
+    stamp = python.parent.parent / ".installed"
+    if not python.is_file() or not stamp.is_file() or stamp.read_text().strip() != _stamp(root):
+        raise SystemExit(f"${PYTHON_ENV} names {python}, which is not an environment set up from this course's "
+                         "pyproject.toml (its .installed stamp differs); unset it to set up .venv here")
+    found = subprocess.run([str(python), "-c", "import rrbot_workshop; print(rrbot_workshop.__file__)"],
+                           env=course_env(root, dict(os.environ)), capture_output=True, text=True)
+    if found.returncode != 0 or not Path(found.stdout.strip()).resolve().is_relative_to(root):
+        raise SystemExit(f"${PYTHON_ENV}: {python} imports rrbot_workshop from {found.stdout.strip() or '?'}, not from "
+                         f"{root}")
+    return python
+
+
+def course_env(root: Path, env: dict[str, str]) -> dict[str, str]:
+    """``env`` for the course's processes: with :data:`PYTHON_ENV` set, the course's folder first on ``PYTHONPATH``."""
+    if env.get(PYTHON_ENV):
+        env = {**env, "PYTHONPATH": os.pathsep.join(p for p in (str(root), env.get("PYTHONPATH", "")) if p)}
+    return env
+
+
 def setup(root: Path) -> Path:
-    """Create ``.venv`` and install the course into it on first use (or when pyproject.toml changed).
+    """Create ``.venv`` and install the course into it on first use (or when pyproject.toml changed); or use the
+    environment :data:`PYTHON_ENV` names.
 
     Returns:
         The environment's Python.
     """
+    if os.environ.get(PYTHON_ENV):
+        return _given_environment(root, Path(os.environ[PYTHON_ENV]))
     venv = root / ".venv"
     python = _venv_python(venv)
     stamp_file = venv / ".installed"
@@ -393,7 +424,7 @@ def start(root: Path, args: Sequence[str]) -> int:
         _say(line)
     show_solutions = "--show-solutions" in args
     args = [a for a in args if a != "--show-solutions"]
-    env = dict(os.environ)
+    env = course_env(root, dict(os.environ))
     env["PATH"] = str(_venv_bin(python.parent.parent)) + os.pathsep + env.get("PATH", "")  # rrbot-workshop in the terminal
     env.setdefault("RRBOT_WORKSHOP_TRACK", "exercises")
     command = jupyterlab_command(python, root, show_solutions)
@@ -474,7 +505,7 @@ def test(root: Path, args: Sequence[str]) -> int:
     a time. The count of every run is printed at the end.
     """
     python = setup(root)
-    env = dict(os.environ)
+    env = course_env(root, dict(os.environ))
     with pristine_exercises(root) as exercises, tempfile.TemporaryDirectory(prefix="rrbot_reports_") as reports:
         if exercises is not None:
             env[EXERCISES_ENV] = str(exercises)
@@ -513,7 +544,8 @@ def tool(root: Path, args: Sequence[str]) -> int:
     my_ws/src/robot/config/x.yaml``, ``--package-path ../ws``) means what it means in the caller's shell.
     """
     python = setup(root)
-    return subprocess.call([str(python), "-m", "rrbot_workshop.cli", "--course", str(root), *args])
+    return subprocess.call([str(python), "-m", "rrbot_workshop.cli", "--course", str(root), *args],
+                           env=course_env(root, dict(os.environ)))
 
 
 def main(argv: Sequence[str] | None = None, root: Path | None = None) -> int:

@@ -14,24 +14,21 @@ The ``xacro`` package does the work. Two of its habits need care outside ROS:
 Xacro keeps module-level state (file stack, verbosity, substitution arguments); a lock serialises calls and every
 piece of state we touch is restored afterwards.
 
-Expansions are remembered (:data:`CACHE_SIZE` of them): the same file with the same arguments and package path,
-whose every file read (the file, its includes, the YAML it loads) still has the same contents and whose
-``$(env ...)``/``$(optenv ...)`` variables have the same values, gives the text made before without running xacro
-again. A grader expands the same description for many checks; a learner
-who edits an included file gets a fresh expansion, since the contents are compared, not the times.
+An expansion is kept for the rest of the process with everything it read (the contents of every file, the folders
+``$(find)`` gave, wildcard matches, environment variables; :mod:`rrbot_workshop.description.xacro_cache`): the same
+file with the same arguments is expanded again only when one of them changed.
 """
 
 from __future__ import annotations
 
 import errno
-import hashlib
+import io
 import logging
 import os
 import re
 import stat
 import threading
 import xml.parsers.expat
-from collections import OrderedDict
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
@@ -40,6 +37,7 @@ from typing import Any
 import xacro
 import xacro.substitution_args as _subst
 
+from rrbot_workshop.description import xacro_cache
 from rrbot_workshop.description.packages import descriptions_root
 from rrbot_workshop.exceptions import DescriptionError
 
@@ -48,6 +46,8 @@ __all__ = ["descriptions_root", "process_xacro", "resolve_package_uri", "availab
 logger = logging.getLogger(__name__)
 
 _LOCK = threading.RLock()
+#: What the expansion running now reads (set inside :func:`_xacro_sandbox`, under :data:`_LOCK`).
+_RECORDER: xacro_cache.Recorder | None = None
 
 
 def available_packages() -> list[str]:
@@ -123,45 +123,80 @@ def _open_regular(file: Any, mode: str = "r", *args: Any, **kwargs: Any) -> Any:
         if not stat.S_ISREG(os.fstat(fd).st_mode):
             raise OSError(errno.EINVAL, "not a regular file (a FIFO, a device or a folder)", str(file))
         os.set_blocking(fd, True)
-        return open(fd, mode, *args, **kwargs)  # noqa: SIM115 - xacro closes what it opens
+        if _RECORDER is None:
+            return open(fd, mode, *args, **kwargs)  # noqa: SIM115 - xacro closes what it opens
+        with open(fd, "rb", closefd=False) as raw:
+            data = raw.read()
+        os.close(fd)
     except BaseException:
         os.close(fd)
         raise
+    _RECORDER.read(str(file), data)  # the bytes xacro gets are the bytes whose digest is kept
+    if "b" in mode:
+        return io.BytesIO(data)
+    return io.TextIOWrapper(io.BytesIO(data), encoding=kwargs.get("encoding"), errors=kwargs.get("errors"),
+                            newline=kwargs.get("newline"))
+
+
+def _share_directory(pkg: str) -> str:
+    from rrbot_workshop.description.packages import share_directory
+
+    return str(share_directory(pkg))
 
 
 @contextmanager
-def _xacro_sandbox() -> Iterator[None]:
-    """Redirect ``$(find)`` to :func:`find_package` and restore every xacro global afterwards."""
+def _xacro_sandbox(recorder: xacro_cache.Recorder | None = None) -> Iterator[None]:
+    """Redirect ``$(find)`` to :func:`find_package` and restore every xacro global afterwards; with a ``recorder``,
+    note everything the expansion reads (files, packages, wildcard matches, environment variables)."""
+    global _RECORDER
 
     found: dict[str, str] = {}  # one share folder per package for the whole run, as a sourced workspace gives
 
     def _eval_find(pkg: str) -> str:
-        from rrbot_workshop.description.packages import share_directory
+        folder = found[pkg] = found.get(pkg) or _share_directory(pkg)
+        if recorder is not None:
+            recorder.finds[pkg] = folder
+        return folder
 
-        if pkg not in found:
-            found[pkg] = str(share_directory(pkg))
-        return found[pkg]
+    def _eval_env(name: str) -> str:
+        if recorder is not None:
+            recorder.env[name] = os.environ.get(name)
+        return saved_env(name)
+
+    def _eval_optenv(name: str, default: str = "") -> str:
+        if recorder is not None:
+            recorder.env[name] = os.environ.get(name)
+        return saved_optenv(name, default)
 
     saved_find = _subst._eval_find
-    saved_eval_find = _subst._eval_dict.get("find")
+    saved_env, saved_optenv = _subst._eval_env, _subst._eval_optenv
+    saved_dict = {key: _subst._eval_dict.get(key) for key in ("find", "env", "optenv")}
     saved_verbosity = xacro.verbosity
     saved_includes = list(xacro.all_includes)
     saved_filestack = xacro.filestack
     saved_macrostack = xacro.macrostack
     with _LOCK:
         _subst._eval_find = _eval_find  # type: ignore[assignment]
-        _subst._eval_dict["find"] = _eval_find
+        _subst._eval_env, _subst._eval_optenv = _eval_env, _eval_optenv  # type: ignore[assignment]
+        _subst._eval_dict.update(find=_eval_find, env=_eval_env, optenv=_eval_optenv)
         saved_open = vars(xacro).get("open")
+        saved_glob = xacro.glob
         xacro.open = _open_regular  # type: ignore[attr-defined]  # shadows the builtin in xacro's module only
+        if recorder is not None:
+            xacro.glob = recorder  # type: ignore[assignment]  # xacro calls glob.glob for wildcard includes
+        _RECORDER = recorder
         try:
             yield
         finally:
+            _RECORDER = None
+            xacro.glob = saved_glob
             if saved_open is None:
                 vars(xacro).pop("open", None)
             else:
                 xacro.open = saved_open  # type: ignore[attr-defined]
             _subst._eval_find = saved_find  # type: ignore[assignment]
-            _subst._eval_dict["find"] = saved_eval_find
+            _subst._eval_env, _subst._eval_optenv = saved_env, saved_optenv  # type: ignore[assignment]
+            _subst._eval_dict.update(saved_dict)
             xacro.verbosity = saved_verbosity
             xacro.all_includes[:] = saved_includes
             xacro.filestack = saved_filestack
@@ -266,67 +301,6 @@ def _as_description_error(err: Exception, file: Path) -> DescriptionError:
     return DescriptionError(f"xacro failed: {text}{where}", source=str(file))
 
 
-#: How many expansions :func:`process_xacro` remembers.
-CACHE_SIZE = 32
-#: (file, arguments, package path) -> (digest of each file read, the environment variables they read, the URDF).
-_CACHE: OrderedDict[tuple[Any, ...], tuple[tuple[tuple[str, str], ...], tuple[tuple[str, str | None], ...], str]] = \
-    OrderedDict()
-_ENV_RE = re.compile(r"\$\(\s*(?:env|optenv)\s+([^\s)]+)")
-#: An include by pattern (xacro expands globs): a file added later would change the expansion; not remembered.
-_GLOB_INCLUDE_RE = re.compile(r"<\s*xacro:include\b[^>]*filename\s*=\s*[\"'][^\"']*[*?\[]")
-
-
-def _digest(path: str) -> str:
-    """The digest of a regular file's contents; "" for anything else (a FIFO is never waited on)."""
-    try:
-        fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
-    except OSError:
-        return ""
-    try:
-        if not stat.S_ISREG(os.fstat(fd).st_mode):
-            return ""
-        with os.fdopen(os.dup(fd), "rb") as f:
-            return hashlib.sha256(f.read()).hexdigest()
-    except OSError:
-        return ""
-    finally:
-        os.close(fd)
-
-
-def _cache_key(file: Path, mappings: dict[str, str]) -> tuple[Any, ...]:
-    from rrbot_workshop.description.packages import package_path
-
-    return str(file), tuple(sorted(mappings.items())), tuple(str(p) for p in package_path())
-
-
-def _cached(key: tuple[Any, ...]) -> str | None:
-    """The remembered expansion for ``key`` if every file it read, and every variable those read, is unchanged."""
-    entry = _CACHE.get(key)
-    if entry is None or any(_digest(path) != digest for path, digest in entry[0]) or any(
-            os.environ.get(name) != value for name, value in entry[1]):
-        return None
-    _CACHE.move_to_end(key)
-    return entry[2]
-
-
-def _remember(key: tuple[Any, ...], file: Path, includes: list[str], text: str) -> None:
-    read = list(dict.fromkeys([str(file), *(str(i) for i in includes)]))
-    names: set[str] = set()
-    for path in read:  # $(env NAME) and $(optenv NAME ...) in any of them: the value is part of the result
-        try:
-            if stat.S_ISREG(os.stat(path).st_mode):
-                text_read = Path(path).read_text(errors="replace")
-                if _GLOB_INCLUDE_RE.search(text_read):
-                    return
-                names.update(_ENV_RE.findall(text_read))
-        except OSError:
-            continue
-    _CACHE[key] = (tuple((path, _digest(path)) for path in read),
-                   tuple((name, os.environ.get(name)) for name in sorted(names)), text)
-    while len(_CACHE) > CACHE_SIZE:
-        _CACHE.popitem(last=False)
-
-
 def process_xacro(path: str | Path, **mappings: Any) -> str:
     """Expand a xacro file into URDF text, as ``xacro file.xacro key:=value`` does.
 
@@ -350,18 +324,18 @@ def process_xacro(path: str | Path, **mappings: Any) -> str:
         raise DescriptionError(f"xacro file not found{hint}", source=str(file))
     file = file.resolve()
     str_mappings = {str(k): _mapping_value(v) for k, v in mappings.items()}
-    key = _cache_key(file, str_mappings)
     with _LOCK:
-        text = _cached(key)
-        if text is not None:
-            return text
-        with _xacro_sandbox():
+        kept = xacro_cache.EXPANSIONS.get(file, str_mappings, _share_directory)
+        if kept is not None:
+            logger.debug("%s with %s: unchanged since its last expansion", file, str_mappings)
+            return kept
+        recorder = xacro_cache.Recorder()
+        with _xacro_sandbox(recorder):
             try:
                 doc = xacro.process_file(str(file), mappings=str_mappings, verbosity=0)
             except Exception as err:  # noqa: BLE001 - xacro raises many types; all become DescriptionError
                 raise _as_description_error(err, file) from err
             text = doc.toprettyxml(indent="  ")
-            includes = list(xacro.all_includes)
-        _remember(key, file, includes, text)
+        xacro_cache.EXPANSIONS.put(file, str_mappings, text, recorder)
     logger.debug("processed %s with %s", file, str_mappings)
     return text

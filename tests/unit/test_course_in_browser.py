@@ -25,6 +25,8 @@ import pytest
 from browser_driver import CHROMIUM, HANG_GUARD, LAB_HELPERS, Browser, unavailable
 
 ROOT = Path(__file__).resolve().parents[2]
+#: The environment given to the course's test command, if any (see rrbot_workshop.classroom.launcher.PYTHON_ENV).
+GIVEN = "RRBOT_WORKSHOP_PYTHON"
 pytestmark = [pytest.mark.browser, pytest.mark.slow]
 
 
@@ -32,7 +34,7 @@ pytestmark = [pytest.mark.browser, pytest.mark.slow]
 def _browser_available() -> None:
     if CHROMIUM is None:
         unavailable("headless Chromium not installed (apt-get install -y chromium)")
-    if not (ROOT / ".git").exists() or not (ROOT / ".venv").exists():
+    if not (ROOT / ".git").exists() or not ((ROOT / ".venv").exists() or os.environ.get(GIVEN)):
         unavailable("needs the course as a git checkout with its .venv")
 
 
@@ -63,14 +65,19 @@ def lab(tmp_path_factory: pytest.TempPathFactory) -> Iterator[tuple[str, Path]]:
     # The clone borrows the course's environment. Its start command re-installs the course into that environment
     # when pyproject.toml differs from the one it was set up for, which would point the checkout's .venv at this
     # temporary clone: only go on when they match (./workshop test brings .venv up to date before the tests).
-    stamp = ROOT / ".venv" / ".installed"
+    # An environment given to the test command (a student copy tested on CI's) is the clone's too: its launcher puts
+    # the clone's own package first on PYTHONPATH.
+    given = os.environ.get(GIVEN)
+    stamp = Path(given).parent.parent / ".installed" if given else ROOT / ".venv" / ".installed"
     committed = hashlib.sha256((clone / "pyproject.toml").read_bytes()).hexdigest()
     if not stamp.exists() or stamp.read_text().strip() != committed:
         unavailable(".venv was set up for another pyproject.toml than the committed one; run ./workshop test "
                      "(it brings .venv up to date first) with pyproject.toml committed")
-    (clone / ".venv").symlink_to(ROOT / ".venv")  # the course's environment, already set up
+    if not given:
+        (clone / ".venv").symlink_to(ROOT / ".venv")  # the course's environment, already set up
     port = _free_port()
-    env = {k: v for k, v in os.environ.items() if not k.startswith("RRBOT_WORKSHOP_")}
+    env = {k: v for k, v in os.environ.items() if not k.startswith("RRBOT_WORKSHOP_") or k == GIVEN}
+    env.pop("PYTHONPATH", None)
     server = subprocess.Popen(
         [sys.executable, "workshop.py", "start", "--no-browser", f"--port={port}", "--ServerApp.token=",
          "--ServerApp.password=", "--LabApp.expose_app_in_browser=True"],

@@ -25,11 +25,17 @@ from datetime import datetime
 from pathlib import Path, PurePosixPath
 
 from rrbot_workshop.course import tracks
-from rrbot_workshop.course.grading.references import readme_section, write_withheld_copy
+from rrbot_workshop.course.grading.references import (
+    README_END,
+    README_MARK,
+    instructor_only,
+    readme_section,
+    write_withheld_copy,
+)
 from rrbot_workshop.exceptions import CourseError
 
-__all__ = ["PRISTINE_ARCHIVE", "EXPORT_EXCLUDE", "EXPORT_EXCLUDE_PATHS", "ResetResult", "pristine_files",
-           "reset_exercise", "export_student_copy", "uncommitted_changes", "read_pristine_archive", "pristine_archive_bytes",
+__all__ = ["PRISTINE_ARCHIVE", "EXPORT_EXCLUDE", "ResetResult", "pristine_files", "reset_exercise",
+           "export_student_copy", "uncommitted_changes", "read_pristine_archive", "pristine_archive_bytes",
            "ARCHIVE_MAX_MEMBERS", "ARCHIVE_MAX_BYTES"]
 
 logger = logging.getLogger(__name__)
@@ -42,9 +48,6 @@ EXPORT_EXCLUDE = frozenset({
 })
 #: Top-level folders never copied into a student copy.
 EXPORT_EXCLUDE_TOP = frozenset({"solutions", "backups", ".pristine", "build", "dist"})
-#: Course-relative folders never copied into a student copy: graders' material that would give answers away (the
-#: hidden wrong controllers task 16 scores the learner's tests on).
-EXPORT_EXCLUDE_PATHS = frozenset({"tests/tasks/task16_mutants"})
 
 
 def _git(root: Path, *args: str) -> subprocess.CompletedProcess[bytes]:
@@ -272,9 +275,10 @@ def _ignore(root: Path) -> Callable[[str, list[str]], set[str]]:
         here = Path(directory).resolve()
         if here == root:
             skipped |= {n for n in names if n in EXPORT_EXCLUDE_TOP}
-        if here.is_relative_to(root):
-            rel = here.relative_to(root).as_posix()
-            skipped |= {n for n in names if (f"{rel}/{n}" if rel != "." else n) in EXPORT_EXCLUDE_PATHS}
+        rel = here.relative_to(root) if here.is_relative_to(root) else None
+        if rel is not None:
+            skipped |= {n for n in names if instructor_only((rel / n).as_posix())
+                        or instructor_only((rel / n).as_posix() + "/x")}
         return skipped
 
     return ignore
@@ -305,21 +309,22 @@ def _student_readme(text: str) -> str:
 
 
 def _with_section(text: str, section: str) -> str:
-    """``text`` with ``section`` before its "## License" heading (at the end if it has none)."""
+    """``text`` with ``section`` before its "## License" heading (at the end if it has none), in place of the one an
+    earlier export wrote (a copy of a student copy)."""
+    text = re.sub(re.escape(README_MARK) + ".*?" + re.escape(README_END), "\n", text, flags=re.DOTALL)
     at = text.find("\n## License")
     return text.rstrip("\n") + "\n" + section if at < 0 else text[:at].rstrip("\n") + "\n" + section + text[at:]
 
 
 def _exported(rel: str) -> bool:
     parts = PurePosixPath(rel).parts
-    if any("/".join(parts[:n]) in EXPORT_EXCLUDE_PATHS for n in range(1, len(parts))):
-        return False
-    return not (parts[0] in EXPORT_EXCLUDE_TOP or any(p in EXPORT_EXCLUDE or p.endswith(".egg-info") for p in parts))
+    return not (parts[0] in EXPORT_EXCLUDE_TOP or any(p in EXPORT_EXCLUDE or p.endswith(".egg-info") for p in parts)
+                or instructor_only(rel))
 
 
 def export_student_copy(dest: str | os.PathLike[str], *, withhold_references: bool = False) -> Path:
-    """Write a copy of the course for learners, as released: the files committed at git ``HEAD``, no ``solutions/``
-    and none of :data:`EXPORT_EXCLUDE_PATHS` (the task-16 grader's hidden wrong controllers).
+    """Write a copy of the course for learners, as released: the files committed at git ``HEAD``, no ``solutions/`` and
+    none of the graders' own wrong and right solutions (:data:`~rrbot_workshop.course.grading.references.INSTRUCTOR_ONLY`).
 
     The copy is built from git, never from the working tree, so an instructor's solved exercises or edits that are
     not committed never reach learners (:func:`uncommitted_changes` lists what was left out). The README loses its

@@ -28,7 +28,7 @@ import pytest
 
 from rrbot_workshop.course.grading.learner_errors import LEARNER_LOGGER, LearnerErrorLog, learner_location, learner_root
 from rrbot_workshop.course.grading.references import WITHHELD_SKIP
-from rrbot_workshop.course.grading.rubric import check_spec
+from rrbot_workshop.course.grading.rubric import HintlessFailure, check_spec
 
 __all__ = ["CheckTimeout", "RubricCollector"]
 
@@ -188,16 +188,25 @@ class RubricCollector:
             func = getattr(item, "function", None)
             spec = check_spec(func) if func is not None else check_spec(lambda: None)
             name = item.name[len("test_"):] if item.name.startswith("test_") else item.name
+            function = getattr(item, "originalname", item.name)
             self.checks[item.nodeid] = {
                 "nodeid": item.nodeid,
                 "name": name,
+                "function": function[len("test_"):] if function.startswith("test_") else function,
                 "max_points": spec.points,
                 "hint": spec.hint,
                 "hints": list(spec.hints),
                 "given": spec.given,
+                "after": [a[len("test_"):] if a.startswith("test_") else a for a in spec.after],
                 "status": "pending",
                 "detail": "",
             }
+        functions = {entry["function"] for entry in self.checks.values()}
+        for entry in self.checks.values():
+            unknown = [a for a in entry["after"] if a not in functions]
+            if unknown:  # a grader's own mistake: the chain of causes would silently lose a link
+                self.errors.append(f"{entry['nodeid']}: graded(after=...) names {unknown}, which are not checks of "
+                                   f"this grader; its checks are {sorted(functions)}")
         self.dump()
 
     @pytest.hookimpl(wrapper=True)
@@ -248,6 +257,9 @@ class RubricCollector:
                 detail = f"{learner}; then: {detail}"
             if call.when != "call":
                 detail = f"in {call.when}: {detail}"
+            if isinstance(exc, HintlessFailure) and entry["status"] != "failed":
+                entry["hintless"] = True  # a prediction not made yet: any hint would answer it
+                detail = f"{detail} ({exc.note})" if exc.note else detail
             self._fail(item.nodeid, detail)
         elif report.skipped:
             reason = report.longrepr[2] if isinstance(report.longrepr, tuple) else str(report.longrepr)
