@@ -348,10 +348,15 @@ class TopicBus:
     ) -> Service:
         """Offer a service under an absolute name.
 
+        A node that creates a service it already offers replaces it, as a C++ controller's ``service_ =
+        create_service(...)`` in ``on_configure`` does when it is configured again after a cleanup (the old server
+        goes with the pointer it replaced).
+
         Raises:
-            MessageError: If a service of that name exists.
+            MessageError: If another node (or no node) offers a service of that name.
         """
-        if name in self._services:
+        existing = self._services.get(name)
+        if existing is not None and not (owner and getattr(existing, "owner", "") == owner):
             raise MessageError(f"service '{name}' already exists")
         srv = Service(name, callback, request_type)
         srv.owner = owner  # type: ignore[attr-defined]

@@ -100,6 +100,18 @@ def test_services_call_check_type_and_refuse_duplicates() -> None:
         bus.call_service("/nope", None)
 
 
+def test_a_node_creating_its_service_again_replaces_it_another_node_cannot() -> None:
+    """A controller configured again after a cleanup creates its service again (as C++'s reassigned pointer does)."""
+    bus = TopicBus()
+    node = Node("disp", bus)
+    node.create_service(SetBoolRequest, "~/set_mode", lambda req: SetBoolResponse(success=False))
+    node.create_service(SetBoolRequest, "~/set_mode", lambda req: SetBoolResponse(success=True))
+    assert bus.service_names().count("/disp/set_mode") == 1
+    assert bus.call_service("/disp/set_mode", SetBoolRequest(data=True)).success
+    with pytest.raises(MessageError, match="already exists"):
+        Node("other", bus).create_service(SetBoolRequest, "/disp/set_mode", lambda req: None)
+
+
 def test_node_expands_names_and_destroy_removes_its_endpoints() -> None:
     bus = TopicBus()
     node = Node("fwd", bus, clock=lambda: 1.5)
