@@ -61,6 +61,7 @@ from rrbot_workshop.tools.lint.layout import (
 )
 from rrbot_workshop.tools.lint.parameters import (
     CONTROLLER_MANAGER_PARAMETERS,
+    behaviour_findings,
     check_parameters,
     closest,
     manager_findings,
@@ -373,6 +374,7 @@ class _Linter:
         schema_text = getattr(cls, "PARAMETERS", None)
         if schema_text:
             check_parameters(controller.name, ctype, ParameterSchema(schema_text), values, report, shared, skip)
+        behaviour_findings(ctype, values, report, skip)
         failed = sum(f.level == "error" for f in self.findings) > errors_before
         learner = learner_file(cls)
         if (urdf is None and learner is None) or skip:
