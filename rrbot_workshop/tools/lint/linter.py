@@ -17,7 +17,9 @@ all at once instead of one at a time at bringup:
   as notes (:mod:`rrbot_workshop.tools.lint.parameters`);
 * with a description: every interface a controller claims or reads exists in the ``<ros2_control>`` tags or is
   exported by a chainable controller of the same manager (reference and state interfaces), and the description's
-  ``<hardware>`` blocks are sound (:mod:`rrbot_workshop.tools.lint.urdf`).
+  ``<hardware>`` blocks are sound (:mod:`rrbot_workshop.tools.lint.urdf`). Each manager is checked against its own
+  description where the launch file gives each its own robot (:mod:`rrbot_workshop.tools.lint.descriptions`), and
+  with ``namespace`` only the manager of that namespace is checked.
 
 :func:`lint_controllers` returns :class:`Finding` records; the CLI prints them as ``FILE:LINE: level: message``.
 """
