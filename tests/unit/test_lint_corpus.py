@@ -388,3 +388,13 @@ def test_split_description_option_keeps_an_existing_file_whole(tmp_path: Path) -
     (tmp_path / "x=y.urdf").write_text("<robot name='r'/>")
     path = str(tmp_path / "x=y.urdf")
     assert split_description_option(path) == ("", path)
+
+
+def test_manager_descriptions_parse_refuses_a_key_without_a_description() -> None:
+    """``ManagerDescriptions.parse`` of a namespace no description is given for raises KeyError."""
+    from rrbot_workshop.tools.lint.descriptions import ManagerDescriptions
+
+    descriptions = ManagerDescriptions({"/left_arm": _path("arm2.urdf.xacro")}, {}, ())
+    assert descriptions.keys() == ["/left_arm"]
+    with pytest.raises(KeyError):
+        descriptions.parse("/right_arm")
