@@ -12,7 +12,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 
-from ruckig import InputParameter, Result, Ruckig, Trajectory
+from ruckig import InputParameter, Result, Ruckig, RuckigError, Trajectory
 
 from rrbot_workshop.description import parse_ros2_control
 from rrbot_workshop.msgs import JointTrajectory, JointTrajectoryPoint
@@ -88,7 +88,12 @@ def plan(
     inp.max_acceleration = [max_acceleration] * n
     inp.max_jerk = [max_jerk] * n
     trajectory = Trajectory(n)
-    result = Ruckig(n).calculate(inp, trajectory)
+    try:
+        result = Ruckig(n).calculate(inp, trajectory)
+    except RuckigError as exc:  # e.g. a zero limit: ruckig refuses the input itself
+        why = next((line for line in str(exc).splitlines() if line.strip()), "its input is invalid")
+        raise ValueError(f"ruckig found no trajectory for max_acceleration={max_acceleration}, "
+                         f"max_jerk={max_jerk}: {why}") from exc
     if result not in (Result.Working, Result.Finished):
         raise ValueError(f"ruckig found no trajectory: {result.name}")
     duration = trajectory.duration

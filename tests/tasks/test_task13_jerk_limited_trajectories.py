@@ -10,6 +10,8 @@ The specification (``jerk_limited.py``, its docstrings and TODOs, and notebook 1
 
   - raises ``ValueError`` if the lists' lengths differ, and ``ValueError`` naming the joint if a goal is outside the
     joint's position limits, below the lower as above the upper (a goal at a limit is within them);
+  - raises ``ValueError`` when ruckig finds no trajectory: a zero jerk or acceleration limit, which ruckig refuses with
+    its own ``RuckigError`` (the docstring promises ``ValueError``);
   - returns ruckig's time-optimal motion from rest to rest within the description's velocity limits and the given
     acceleration and jerk limits: it lasts ruckig's duration (to 1e-6 s);
   - respects every limit at every point (to 1e-6 in the limit's unit; the jerk as the change of acceleration between
@@ -21,23 +23,27 @@ The specification (``jerk_limited.py``, its docstrings and TODOs, and notebook 1
     synchronized;
   - has points at most ``sample_period`` apart (to 1e-9 s), as many as the move needs (``ceil(duration /
     sample_period)`` after t = 0; a point at t = 0 may be added), each with positions, velocities and accelerations
-    for the joints in the order asked; the last is the goal at rest (to 1e-6) at the motion's duration;
+    for the joints in the order asked (``joint_names`` as given, not sorted); the last is the goal at rest (to 1e-6)
+    at the motion's duration, whether or not the duration is a whole number of sample periods;
   - is computed with ruckig itself: the library's ``rw.motion.jerk_limited_trajectory`` is unavailable while grading;
 
 * the joint trajectory controller accepts the result and the robot ends at the goal (within 1 mrad).
 
 The descriptions: RRBot and a pan-tilt head with other joint names and other limits (so a hard-coded limit, joint
-name or joint order fails). The sample periods: the default and others. Generated moves (Hypothesis) compare the
+name or joint order fails). A trajectory whose joints come in another order than asked loses the order's point only
+when its values follow its own joint_names (the joint trajectory controller reads them by name): the other checks read
+it in the order asked. The sample periods: the default and others. Generated moves (Hypothesis) compare the
 learner's trajectory with the reference planner (ruckig through the library's ``rw.motion``) on the same move.
 """
 
 from __future__ import annotations
 
 import math
+import traceback
 from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from types import ModuleType
+from types import ModuleType, SimpleNamespace
 from typing import Any
 
 import pytest
@@ -128,7 +134,12 @@ MOVES = [
     Move("pan-tilt", ("pan", "tilt"), (1.0, -1.0), (-0.9, 0.4), 5.0, 50.0, 0.0125),
     # one joint, a short move that never reaches the acceleration limit
     Move("RRBot", ("joint2",), (0.0,), (0.05,), 2.0, 5.0),
+    # a duration that is a whole number of sample periods: joint1 moves 1 rad within jerk 32 alone (four jerk phases
+    # of 0.25 s), 1.0 s exactly, 20 periods of 0.05 s
+    Move("RRBot", ("joint1", "joint2"), (0.0, 0.0), (1.0, 0.3), 10.0, 32.0, 0.05),
 ]
+#: The move of ``MOVES`` whose duration is a whole number of sample periods (1.0 s, 20 x 0.05 s).
+WHOLE_PERIODS = MOVES[-1]
 
 
 # ----------------------------------------------------------------------------------------------------------- fixtures
@@ -208,18 +219,29 @@ def _expect_value_error(fn: Callable[[], Any], refused: str, name: str | None = 
     except NotImplementedError:
         _fail(f"{function}() in your {FILE} is not written yet (it raises NotImplementedError)")
     except ValueError as exc:
-        if name is not None and name not in str(exc):
-            _fail(f"{refused}: your ValueError says {str(exc)!r}, which does not name the joint '{name}'")
-        return
-    _fail(f"{refused}: your code returned without raising ValueError")
+        if name is None or name in str(exc):
+            return
+        message = f"{refused}: your ValueError says {str(exc)!r}, which does not name the joint '{name}'"
+    else:
+        message = f"{refused}: your code returned without raising ValueError"
+    _fail(message)  # outside the except: the reason is this one, not the learner's ValueError
 
 
 # ---------------------------------------------------------------------------------------------- what a plan must be
-def _shape_problem(traj: Any, move: Move) -> str | None:
-    """What is wrong with the trajectory's shape (joint names, one value per joint in each field), or None."""
+def _shape_problem(traj: Any, move: Move, order: bool = True) -> str | None:
+    """What is wrong with the trajectory's shape (joint names, one value per joint in each field), or None.
+
+    Args:
+        traj: The learner's trajectory.
+        move: The call that made it.
+        order: Whether the joint names must come in the order asked (else any order of the joints asked).
+    """
     names = list(getattr(traj, "joint_names", None) or [])
-    if names != list(move.joints):
+    if sorted(names) != sorted(move.joints) or len(set(names)) != len(names):
         return f"{move}: the trajectory's joint_names are {names}; they must be the joints asked, in that order"
+    if order and names != list(move.joints):
+        return (f"{move}: the trajectory's joint_names are {names}; they must be the joints asked, in the order asked "
+                f"({list(move.joints)}), with every point's values in that order")
     points = list(getattr(traj, "points", None) or [])
     if not points:
         return f"{move}: the trajectory has no points"
@@ -234,11 +256,21 @@ def _shape_problem(traj: Any, move: Move) -> str | None:
 
 
 def _points(traj: Any, move: Move) -> list[Any]:
-    """The trajectory's points, after checking its shape."""
-    problem = _shape_problem(traj, move)
+    """The trajectory's points, after checking its shape, with their values in the order of the joints asked.
+
+    A trajectory that names the joints in another order is read by its names, as the joint trajectory controller reads
+    it: the order asked is a rule of its own (:func:`test_joints_in_the_order_asked`).
+    """
+    problem = _shape_problem(traj, move, order=False)
     if problem:
         _fail(problem)
-    return list(traj.points)
+    names = list(traj.joint_names)
+    if names == list(move.joints):
+        return list(traj.points)
+    index = [names.index(j) for j in move.joints]
+    return [SimpleNamespace(time_from_start=p.time_from_start, **{
+        field: [list(getattr(p, field))[i] for i in index] for field in ("positions", "velocities", "accelerations")})
+        for p in traj.points]
 
 
 def _sampling_problem(points: list[Any], move: Move) -> str | None:
@@ -417,6 +449,47 @@ def test_goal_outside_limits_is_refused(learner: ModuleType, urdfs: dict[str, st
 
 
 @graded(points=1, hint=(
+    "Task 13.2: ruckig cannot plan with a zero jerk or acceleration limit; it refuses with its own RuckigError. The "
+    "docstring promises a ValueError when ruckig finds no trajectory, so a caller needs to catch one error only.",
+    "Ruckig(n).calculate raises ruckig.RuckigError for limits it cannot use, and returns a Result that is neither "
+    "Result.Working nor Result.Finished when it finds nothing; turn both into ValueError.",
+    "try:\n    result = Ruckig(n).calculate(inp, trajectory)\nexcept RuckigError as exc:\n"
+    "    raise ValueError(f\"ruckig found no trajectory: {exc}\") from exc"))
+def test_impossible_limits_are_refused(learner: ModuleType, urdfs: dict[str, str]) -> None:
+    fn = _function(learner, "plan")
+    for acc, jerk in ((4.0, 0.0), (0.0, 20.0)):
+        call = f"plan(<RRBot URDF>, ['joint1', 'joint2'], [0, 0], [1.2, -0.5], {_num(acc)}, {_num(jerk)})"
+        try:
+            fn(urdfs["RRBot"], ["joint1", "joint2"], [0.0, 0.0], [1.2, -0.5], acc, jerk)
+        except NotImplementedError:
+            _fail(f"plan() in your {FILE} is not written yet (it raises NotImplementedError)")
+        except ValueError:
+            continue
+        except Exception as exc:  # noqa: BLE001 - which error the learner's plan() lets out is what is graded
+            first = next((line.strip() for line in str(exc).splitlines() if line.strip()), "")
+            lines = [f.lineno for f in traceback.extract_tb(exc.__traceback__) if Path(f.filename).name == FILE]
+            where = f"your {FILE}, line {lines[-1]}" if lines else f"your {FILE}"
+            message = (f"{where}: {call} let {type(exc).__name__} out ({first}); ruckig finds no trajectory with a "
+                       "zero limit, and the docstring promises ValueError then")
+        else:
+            message = (f"your {FILE}: {call} returned without raising ValueError; ruckig finds no trajectory with a "
+                       "zero limit, and the docstring promises ValueError then")
+        _fail(message)  # outside the except: the reason is this one, not the learner's exception
+
+
+@graded(points=1, hint=(
+    "Task 13.2: the trajectory names the joints in the order they were asked (joint_names as given, not sorted), and "
+    "every point's positions, velocities and accelerations follow that order.",
+    "JointTrajectory(joint_names=list(joint_names), ...); start, goal and the limits are given in that order too.",
+    "return JointTrajectory(joint_names=list(joint_names), points=points)"))
+def test_joints_in_the_order_asked(learner: ModuleType, urdfs: dict[str, str]) -> None:
+    for move in MOVES:
+        problem = _shape_problem(_plan(learner, urdfs, move), move)
+        if problem:
+            _fail(problem)
+
+
+@graded(points=1, after=("test_joints_in_the_order_asked",), hint=(
     "Task 13.2: position limits are inclusive: a goal exactly at min_position or max_position is within them and "
     "must be planned.",
     "Compare with <= on both sides, not <.",
@@ -454,7 +527,7 @@ def test_lengths_that_differ_are_refused(learner: ModuleType, urdfs: dict[str, s
                         "plan() with one joint and two start and goal positions")
 
 
-@graded(points=3, hint=(
+@graded(points=3, after=("test_joints_in_the_order_asked",), hint=(
     "Task 13.2: ruckig keeps velocity, acceleration and jerk within the limits it is given: give it the description's "
     "velocity limit of each joint (in the order asked) and the acceleration and jerk limits you are given, and copy "
     "its velocities and accelerations into every point.",
@@ -466,7 +539,7 @@ def test_limits_respected(learner: ModuleType, urdfs: dict[str, str], limits: di
     _each_move(learner, urdfs, lambda points, move: _limits_problem(points, move, limits[move.robot]))
 
 
-@graded(points=2, hint=(
+@graded(points=2, after=("test_joints_in_the_order_asked",), hint=(
     "Task 13.2: the JTC interpolates between points with quintics from their positions, velocities and accelerations: "
     "they must be ruckig's, all three at the point's time, so that the JTC follows ruckig's motion.",
     "trajectory.at_time(t) returns (positions, velocities, accelerations) at t; use all three, at the same t as "
@@ -478,7 +551,7 @@ def test_points_carry_the_motion(learner: ModuleType, urdfs: dict[str, str]) -> 
     _each_move(learner, urdfs, _motion_problem)
 
 
-@graded(points=2, hint=(
+@graded(points=2, after=("test_joints_in_the_order_asked",), hint=(
     "Task 13.2: a jerk-limited move of several joints is synchronized: every joint arrives at its goal at the same "
     "time, the slower joints' duration. ruckig does it when it plans all joints in one InputParameter with its default "
     "synchronization; planning each joint alone lets the short moves end early.",
@@ -489,7 +562,7 @@ def test_joints_arrive_together(learner: ModuleType, urdfs: dict[str, str]) -> N
     _each_move(learner, urdfs, _sync_problem)
 
 
-@graded(points=2, hint=(
+@graded(points=2, after=("test_joints_in_the_order_asked",), hint=(
     "Task 13.2: sample the motion every sample_period, whatever value it has (not only 0.01 s): points at most "
     "sample_period apart, as many as the duration needs, then a last point at the motion's duration.",
     "Times k * sample_period for k = 1 .. ceil(duration / sample_period) - 1 (0 may be included), then duration "
@@ -499,7 +572,7 @@ def test_sampled_every_sample_period(learner: ModuleType, urdfs: dict[str, str])
     _each_move(learner, urdfs, _sampling_problem)
 
 
-@graded(points=1, hint=(
+@graded(points=1, after=("test_joints_in_the_order_asked",), hint=(
     "Task 13.2: the move ends where it was asked to, at rest: the last point is the goal with zero velocity and "
     "acceleration.",
     "trajectory.at_time(trajectory.duration) is ruckig's final state; or write the goal itself with zeros.",
@@ -509,7 +582,7 @@ def test_ends_at_the_goal_at_rest(learner: ModuleType, urdfs: dict[str, str]) ->
     _each_move(learner, urdfs, _end_problem)
 
 
-@graded(points=2, hint=(
+@graded(points=2, after=("test_joints_in_the_order_asked",), hint=(
     "Task 13.2: ruckig's motion is the fastest within the limits; the last point's time_from_start is its duration. "
     "Slower means a smaller limit than the description's (or a hard-coded one).",
     "trajectory.duration after Ruckig(n).calculate(inp, trajectory); each joint's velocity limit is "
@@ -525,10 +598,11 @@ def test_time_optimal(learner: ModuleType, urdfs: dict[str, str], limits: dict[s
 
 
 def _candidates(lim: Any) -> list[float]:
-    """Positions a generated move may use for a joint: a 0.05 rad grid from 0 outwards, then the limits themselves."""
+    """Positions a generated move may use for a joint: a 0.05 rad grid from 0 outwards, strictly within the limits (a
+    goal at a limit is graded by :func:`test_goal_at_a_limit_is_planned` alone, both bounds: one slip, one rule)."""
     grid = sorted((round(k * 0.05, 2) for k in range(math.ceil(lim.min_position / 0.05),
                                                      math.floor(lim.max_position / 0.05) + 1)), key=abs)
-    return [*grid, lim.max_position, lim.min_position]
+    return [x for x in grid if lim.min_position < x < lim.max_position]
 
 
 def _moves(limits: dict[str, dict[str, Any]]) -> st.SearchStrategy[Move]:
@@ -556,7 +630,7 @@ def _moves(limits: dict[str, dict[str, Any]]) -> st.SearchStrategy[Move]:
     return moves()
 
 
-@graded(points=3, hint=(
+@graded(points=3, after=("test_joints_in_the_order_asked",), hint=(
     "Task 13.2: on any move the task allows (either description, joints in any order, goals up to the limits, other "
     "acceleration and jerk limits and sample periods), your trajectory must do what ruckig's does: same duration, "
     "joints arriving together, limits respected, sampled every sample_period, ending at the goal at rest.",
@@ -586,9 +660,9 @@ def test_generated_moves_match_ruckig(learner: ModuleType, urdfs: dict[str, str]
         calls["plan"] += 1
         try:
             traj = _plan(learner, urdfs, move)
-            problem = _shape_problem(traj, move)
+            problem = _shape_problem(traj, move, order=False)
             if problem is None:
-                points = list(traj.points)
+                points = _points(traj, move)
                 problems = (_duration_problem(points, move, _reference_duration(limits, move)),
                             _sync_problem(points, move), _limits_problem(points, move, limits[move.robot]),
                             _sampling_problem(points, move), _end_problem(points, move), _motion_problem(points, move))
@@ -634,7 +708,7 @@ class _Differs(Exception):
     """A generated move on which the learner's trajectory is not what ruckig's is."""
 
 
-@graded(points=3, hint=(
+@graded(points=3, after=("test_joints_in_the_order_asked",), hint=(
     "Task 13: the joint trajectory controller must accept your trajectory and the robot must end at the goal "
     "(within 1 mrad): strictly increasing times, every field one value per joint, the joints in the order you "
     "name them.",

@@ -4,6 +4,7 @@ full marks. Each is a copy of solutions/task13_jerk_limited_trajectories with ch
 from __future__ import annotations
 
 import pytest
+from grader_causes import assert_one_cause, check_specs, unknown_after
 from grader_variants import Variant, assert_full_marks, assert_loses_points, grade_variants
 
 from rrbot_workshop.course import tracks
@@ -14,6 +15,9 @@ pytestmark = pytest.mark.skipif(not HAS_SOLUTIONS, reason="this copy of the cour
 F = "jerk_limited.py"
 GOAL_CHECK = "        if not low <= g <= high:\n"
 SAMPLING = "    times = [k * sample_period for k in range(math.ceil(duration / sample_period - 1e-9))] + [duration]\n"
+CALCULATE = ("    try:\n        result = Ruckig(n).calculate(inp, trajectory)\n"
+             "    except RuckigError as exc:  # e.g. a zero limit: ruckig refuses the input itself\n")
+ORDER = "    return JointTrajectory(joint_names=list(joint_names), points=points)\n"
 LAST_POINT = ("    points[-1] = JointTrajectoryPoint(positions=list(goal), velocities=[0.0] * n, accelerations=[0.0] * n,\n"
               "                                      time_from_start=duration)\n")
 
@@ -25,13 +29,12 @@ WRONG = [
     Variant("goal_at_a_limit_refused", {F: [(GOAL_CHECK, "        if not low < g < high:\n")]},
             fails={"goal_at_a_limit_is_planned"}),
     Variant("joints_not_synchronized", {F: [
-        ("from ruckig import InputParameter, Result, Ruckig, Trajectory",
-         "from ruckig import InputParameter, Result, Ruckig, Synchronization, Trajectory"),
+        ("from ruckig import InputParameter, Result, Ruckig, RuckigError, Trajectory",
+         "from ruckig import InputParameter, Result, Ruckig, RuckigError, Synchronization, Trajectory"),
         ("    inp.max_jerk = [max_jerk] * n\n",
          "    inp.max_jerk = [max_jerk] * n\n    inp.synchronization = Synchronization.No\n")]},
         fails={"joints_arrive_together", "generated_moves_match_ruckig"}),
     Variant("each_joint_planned_alone", {F: [(
-        "    trajectory = Trajectory(n)\n    result = Ruckig(n).calculate(inp, trajectory)\n"
         "    if result not in (Result.Working, Result.Finished):\n"
         "        raise ValueError(f\"ruckig found no trajectory: {result.name}\")\n"
         "    duration = trajectory.duration\n",
@@ -110,6 +113,45 @@ WRONG = [
         "    return rw.motion.jerk_limited_trajectory(joint_names, start, goal, [limits[j][2] for j in joint_names],\n"
         "                                             max_acceleration, max_jerk, sample_period)\n")]},
         fails={"limits_respected", "time_optimal", "jtc_executes_it"}, names_file=F),
+    # a limit ruckig cannot use: the docstring promises ValueError
+    Variant("ruckig_error_let_out_on_a_zero_limit", {F: [(CALCULATE,
+        "    if True:\n        result = Ruckig(n).calculate(inp, trajectory)\n    if False:\n")]},
+        fails={"impossible_limits_are_refused"}, only=True, names_file=F,
+        says={"impossible_limits_are_refused": "let RuckigError out"}),
+    Variant("empty_trajectory_on_a_zero_limit", {F: [(CALCULATE, CALCULATE.replace(
+        "    except RuckigError as exc:", "    except RuckigError:\n"
+        "        return JointTrajectory(joint_names=list(joint_names), points=[])\n    except ValueError as exc:"))]},
+        fails={"impossible_limits_are_refused"}, only=True, says={"impossible_limits_are_refused": "without raising"}),
+    # joints not in sorted order: the order asked is kept
+    Variant("joint_names_sorted_values_not", {F: [(ORDER, ORDER.replace("list(joint_names)", "sorted(joint_names)"))]},
+            fails={"joints_in_the_order_asked"},
+            says={"joints_in_the_order_asked": "in the order asked", "goal_at_a_limit_is_planned": "fails because "
+                  "joints_in_the_order_asked fails"}),
+    Variant("planned_in_sorted_joint_order", {F: [("    limits = joint_limits(urdf, joint_names)\n",
+        "    limits = joint_limits(urdf, joint_names)\n"
+        "    order = sorted(range(n), key=lambda i: joint_names[i])\n"
+        "    joint_names = [joint_names[i] for i in order]\n"
+        "    start, goal = [start[i] for i in order], [goal[i] for i in order]\n")]},
+        fails={"joints_in_the_order_asked"}, only=True, says={"joints_in_the_order_asked": "in the order asked"}),
+    Variant("goals_checked_in_sorted_joint_order", {F: [(
+        "    for name, g in zip(joint_names, goal, strict=True):\n",
+        "    for name, g in zip(sorted(joint_names), goal, strict=True):\n")]},
+        fails={"goal_outside_limits_is_refused", "joints_in_the_order_asked"},
+        says={"goal_outside_limits_is_refused": "does not name the joint"}),
+    # durations that are a whole number of sample periods, and ones that are not
+    Variant("last_point_twice_on_a_whole_number_of_periods", {F: [(SAMPLING,
+        "    times = [k * sample_period for k in range(int(duration / sample_period) + 1)] + [duration]\n")]},
+        fails={"sampled_every_sample_period"}, only=True,
+        says={"sampled_every_sample_period": "time_from_start must increase"}),
+    Variant("last_gap_too_long_between_periods", {F: [(SAMPLING,
+        "    times = [k * sample_period for k in range(int(duration / sample_period))] + [duration]\n")]},
+        fails={"sampled_every_sample_period", "generated_moves_match_ruckig"}, only=True,
+        says={"sampled_every_sample_period": "at most sample_period"}),
+    # limits at both bounds
+    Variant("goal_at_the_upper_limit_refused", {F: [(GOAL_CHECK, "        if not low <= g < high:\n")]},
+            fails={"goal_at_a_limit_is_planned"}, only=True, says={"goal_at_a_limit_is_planned": "outside"}),
+    Variant("goal_at_the_lower_limit_refused", {F: [(GOAL_CHECK, "        if not low < g <= high:\n")]},
+            fails={"goal_at_a_limit_is_planned"}, only=True, says={"goal_at_a_limit_is_planned": "outside"}),
 ]
 
 ALT_ELEMENT_TREE = '''"""Task 13: joint limits read from the URDF text, a phase-synchronized move sampled in a while loop."""
@@ -153,6 +195,8 @@ def plan(urdf, joint_names, start, goal, max_acceleration, max_jerk, sample_peri
     request.max_acceleration = [max_acceleration for _ in joint_names]
     request.max_jerk = [max_jerk for _ in joint_names]
     request.synchronization = Synchronization.Phase
+    if not (max_acceleration > 0 and max_jerk > 0):
+        raise ValueError("max_acceleration and max_jerk must be positive")
     motion = Trajectory(count)
     Ruckig(count).calculate(request, motion)
     points = []
@@ -207,7 +251,11 @@ def plan(urdf, joint_names, start, goal, max_acceleration, max_jerk, sample_peri
     inp.max_jerk = [max_jerk] * dofs
     inp.synchronization = ruckig.Synchronization.Time
     out = ruckig.Trajectory(dofs)
-    if ruckig.Ruckig(dofs).calculate(inp, out) not in (ruckig.Result.Working, ruckig.Result.Finished):
+    try:
+        found = ruckig.Ruckig(dofs).calculate(inp, out)
+    except ruckig.RuckigError as exc:
+        raise ValueError(f"ruckig refused the limits: {exc}") from None
+    if found not in (ruckig.Result.Working, ruckig.Result.Finished):
         raise ValueError("ruckig found no trajectory")
     steps = max(1, math.ceil(out.duration / sample_period))
     points = []
@@ -262,6 +310,8 @@ class _Planner:
                 raise ValueError(f"{joint}: goal {g} above {high}")
 
     def solve(self, start, goal, acc, jerk):
+        if min(acc, jerk) <= 0:
+            raise ValueError(f"ruckig needs positive limits, not acceleration {acc} and jerk {jerk}")
         n = len(self.joints)
         inp = InputParameter(n)
         inp.current_position = list(start)
@@ -307,6 +357,15 @@ def test_wrong_solution_loses_points(rubrics: dict, variant: Variant) -> None:
 @pytest.mark.parametrize("variant", RIGHT, ids=str)
 def test_alternative_solution_gets_full_marks(rubrics: dict, variant: Variant) -> None:
     assert_full_marks(rubrics[variant.name])
+
+
+@pytest.mark.parametrize("variant", WRONG, ids=str)
+def test_one_slip_shows_hints_for_one_check(rubrics: dict, variant: Variant) -> None:
+    assert_one_cause(rubrics[variant.name], check_specs(13), variant.name)
+
+
+def test_after_names_checks_of_the_grader() -> None:
+    assert not unknown_after(check_specs(13))
 
 
 def test_there_are_enough_variants() -> None:
