@@ -4,6 +4,7 @@ full marks. Each is a copy of solutions/task13_jerk_limited_trajectories with ch
 from __future__ import annotations
 
 import pytest
+from grader_causes import assert_one_cause, check_specs, unknown_after
 from grader_variants import Variant, assert_full_marks, assert_loses_points, grade_variants
 
 from rrbot_workshop.course import tracks
@@ -356,6 +357,15 @@ def test_wrong_solution_loses_points(rubrics: dict, variant: Variant) -> None:
 @pytest.mark.parametrize("variant", RIGHT, ids=str)
 def test_alternative_solution_gets_full_marks(rubrics: dict, variant: Variant) -> None:
     assert_full_marks(rubrics[variant.name])
+
+
+@pytest.mark.parametrize("variant", WRONG, ids=str)
+def test_one_slip_shows_hints_for_one_check(rubrics: dict, variant: Variant) -> None:
+    assert_one_cause(rubrics[variant.name], check_specs(13), variant.name)
+
+
+def test_after_names_checks_of_the_grader() -> None:
+    assert not unknown_after(check_specs(13))
 
 
 def test_there_are_enough_variants() -> None:
