@@ -515,9 +515,9 @@ def test_position_range(hardware: type, folder: Path) -> None:
 
 
 @graded(points=2, hint=(
-    "Task 15.2-15.3: a joint with soft limits (joint1) is slowed down as it nears its soft bound: the effort allowed "
-    "falls with k_velocity x (velocity - k_position x distance to the bound), so the joint stops at the bound instead "
-    "of running into its hard limit.",
+    "Task 15.2-15.3: a joint with soft limits (joint1) is slowed down as it nears its soft bound: the velocity allowed "
+    "is k_position x (distance to the bound), and the effort is cut to k_velocity x (allowed velocity - velocity), "
+    "so the joint stops at the bound instead of running into its hard limit.",
     "get_soft_joint_limits(joint, params, info.soft_limits.get(joint)) is not None: that joint gets a "
     "JointSoftLimiter([joint], [hard], [soft]); actual carries the position and velocity states.",
     "actual = JointControlInterfacesData(joint, position=self.get_state(f'{joint}/position'), "
