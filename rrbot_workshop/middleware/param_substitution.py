@@ -114,11 +114,17 @@ def merge(*files: Mapping[str, Any]) -> dict[str, Any]:
 def override(config: Mapping[str, Any], node: str, values: Mapping[str, Any]) -> dict[str, Any]:
     """A copy of ``config`` with ``node``'s parameters set from ``values`` (dotted names, e.g. ``"gains.joint1.p"``).
 
+    The node's section may be written as ``node``, ``/node`` or ``/**/node``, as a ROS 2 parameters file addresses it;
+    the first of these that holds ``ros__parameters`` is changed.
+
     Raises:
         ParameterError: If ``node`` has no ``ros__parameters`` in ``config`` (the valid node names are listed).
     """
     out = merge(config)
-    section = out.get(node)
+    bare = node.split("/")[-1]
+    keys = [node, *(k for k in (bare, f"/{bare}", f"/**/{bare}") if k != node)]
+    section = next((out[k] for k in keys if isinstance(out.get(k), dict)
+                    and isinstance(out[k].get("ros__parameters"), dict)), None)
     if not isinstance(section, dict) or not isinstance(section.get("ros__parameters"), dict):
         nodes = sorted(k for k, v in out.items() if isinstance(v, dict) and "ros__parameters" in v)
         raise ParameterError(_OWNER, node, f"has no ros__parameters section (nodes: {nodes})")

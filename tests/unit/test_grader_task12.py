@@ -5,6 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
+from grader_causes import assert_one_cause, check_specs, unknown_after
 from grader_variants import Variant, assert_full_marks, assert_loses_points, grade_variants
 
 from rrbot_workshop.course import tracks
@@ -64,18 +65,20 @@ WRONG = [
     Variant("prefix_only_in_the_controllers", {BRINGUP: [(XACRO, XACRO.replace('"prefix": prefix', '"prefix": ""'))]},
             fails={"prefix_reaches_the_running_system", "any_arguments_match_the_launch_file"}),
     Variant("yaml_left_unprefixed", {YAML: _yaml(PLAIN, PLAIN)},
-            fails={"yaml_follows_the_prefix", "prefix_reaches_the_running_system"}),
+            fails={"yaml_follows_the_prefix"}, only=True, says={"yaml_follows_the_prefix": "rrbot_controllers.yaml, line"}),
     Variant("yaml_hard_coded_for_left", {YAML: _yaml("      - left_joint1\n      - left_joint2",
                                                      "      - left_joint1\n      - left_joint2")},
-            fails={"yaml_follows_the_prefix", "defaults"}),
+            fails={"yaml_follows_the_prefix"}, only=True),
     Variant("only_the_forward_controller_prefixed", {YAML: _yaml(PREFIXED, PLAIN)},
-            fails={"yaml_follows_the_prefix", "robot_controller_choice"}),
+            fails={"yaml_follows_the_prefix"}, only=True,
+            says={"yaml_follows_the_prefix": "joint_trajectory_controller's joints"}),
     Variant("only_joint1_prefixed", {YAML: _yaml("      - $(var prefix)joint1\n      - joint2",
                                                  "      - $(var prefix)joint1\n      - joint2")},
-            fails={"yaml_follows_the_prefix", "prefix_reaches_the_running_system"}),
+            fails={"yaml_follows_the_prefix"}, only=True),
     Variant("prefix_glued_with_an_extra_underscore", {YAML: _yaml(PREFIXED.replace(")joint", ")_joint"),
                                                                   PREFIXED.replace(")joint", ")_joint"))},
-            fails={"yaml_follows_the_prefix"}),
+            fails={"yaml_follows_the_prefix"}, only=True,
+            says={"yaml_follows_the_prefix": "rrbot_controllers.yaml, line"}),
     Variant("update_rate_ignored", {BRINGUP: [(RATE, "")]},
             fails={"update_rate_is_injected", "any_arguments_match_the_launch_file"}),
     Variant("update_rate_written_into_the_file", {BRINGUP: [(RATE, (
@@ -206,7 +209,47 @@ controller_manager:
     update_rate: 100
 """
 
+#: An alternative YAML: each controller's type in its own section (a layout Jazzy's spawner reads), block style.
+YAML_TYPES_IN_OWN_SECTIONS = """controller_manager:
+  ros__parameters:
+    update_rate: 100
+
+joint_state_broadcaster:
+  ros__parameters:
+    type: joint_state_broadcaster/JointStateBroadcaster
+
+forward_position_controller:
+  ros__parameters:
+    type: forward_command_controller/ForwardCommandController
+    joints:
+      - $(var prefix)joint1
+      - $(var prefix)joint2
+    interface_name: position
+
+joint_trajectory_controller:
+  ros__parameters:
+    type: joint_trajectory_controller/JointTrajectoryController
+    joints: [$(var prefix)joint1, $(var prefix)joint2]
+    command_interfaces: [position]
+    state_interfaces: [position, velocity]
+    allow_partial_joints_goal: false
+    constraints: {stopped_velocity_tolerance: 0.01, goal_time: 0.0}
+"""
+
+#: The same in flow style, the manager's section written as ``/**/controller_manager``.
+YAML_TYPES_IN_OWN_SECTIONS_FLOW = """/**/controller_manager: {ros__parameters: {update_rate: 100}}
+joint_state_broadcaster: {ros__parameters: {type: joint_state_broadcaster/JointStateBroadcaster}}
+forward_position_controller: {ros__parameters: {type: forward_command_controller/ForwardCommandController,
+  joints: ["$(var prefix)joint1", "$(var prefix)joint2"], interface_name: position}}
+joint_trajectory_controller: {ros__parameters: {type: joint_trajectory_controller/JointTrajectoryController,
+  joints: ["$(var prefix)joint1", "$(var prefix)joint2"], command_interfaces: [position],
+  state_interfaces: [position, velocity], allow_partial_joints_goal: false,
+  constraints: {stopped_velocity_tolerance: 0.01, goal_time: 0.0}}}
+"""
+
 RIGHT = [
+    Variant("types_in_the_controllers_own_sections", {YAML: YAML_TYPES_IN_OWN_SECTIONS}),
+    Variant("types_in_own_sections_flow_style", {YAML: YAML_TYPES_IN_OWN_SECTIONS_FLOW}),
     Variant("substituted_by_hand_and_merged", {BRINGUP: BRINGUP_BY_HAND}),
     Variant("set_validation_and_a_deep_copy", {BRINGUP: BRINGUP_SET_AND_COPY}),
     Variant("flow_yaml_in_another_order", {YAML: YAML_FLOW}),
@@ -231,6 +274,15 @@ def test_wrong_solution_loses_points(rubrics: dict[str, Rubric], variant: Varian
 @pytest.mark.parametrize("variant", RIGHT, ids=str)
 def test_alternative_solution_gets_full_marks(rubrics: dict[str, Rubric], variant: Variant) -> None:
     assert_full_marks(rubrics[variant.name])
+
+
+@pytest.mark.parametrize("variant", WRONG, ids=str)
+def test_one_slip_shows_hints_for_one_check(rubrics: dict[str, Rubric], variant: Variant) -> None:
+    assert_one_cause(rubrics[variant.name], check_specs(12), variant.name)
+
+
+def test_after_names_checks_of_the_grader() -> None:
+    assert not unknown_after(check_specs(12))
 
 
 def test_enough_variants() -> None:

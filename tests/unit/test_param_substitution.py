@@ -56,3 +56,13 @@ def test_override_sets_dotted_names_on_a_copy() -> None:
     assert config["pid"]["ros__parameters"]["gains"]["j1"] == {"p": 1.0}
     with pytest.raises(ParameterError, match=r"has no ros__parameters section \(nodes: \['pid'\]\)"):
         ps.override(config, "jtc", {"x": 1})
+
+
+def test_override_finds_the_node_under_a_wildcard_key() -> None:
+    """``/**/controller_manager`` and ``/controller_manager`` address the controller manager as ``controller_manager``
+    does in a parameters file: override changes that section."""
+    for key in ("/**/controller_manager", "/controller_manager"):
+        config = {key: {"ros__parameters": {"update_rate": 100}}}
+        out = ps.override(config, "controller_manager", {"update_rate": 50})
+        assert out == {key: {"ros__parameters": {"update_rate": 50}}}
+        assert config[key]["ros__parameters"]["update_rate"] == 100
