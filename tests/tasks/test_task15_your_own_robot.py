@@ -26,6 +26,7 @@ from __future__ import annotations
 import itertools
 import logging
 import math
+import traceback
 from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
@@ -46,7 +47,7 @@ from rrbot_workshop.joint_limits import (
     get_joint_limits,
     get_soft_joint_limits,
 )
-from rrbot_workshop.middleware.lifecycle import State
+from rrbot_workshop.middleware.lifecycle import CallbackReturn, State
 
 TASK = 15
 FILE = "my_robot_hardware.py"
@@ -115,9 +116,9 @@ def _renamed(limits: dict[str, dict[str, Any]], prefix: str) -> dict[str, dict[s
 
 
 def _urdf(limits_file: Path | None, prefix: str = "", joints: Sequence[str] = ("joint1", "joint2", "joint3"),
-          edit: Callable[[str, str], str] | None = None) -> str:
+          edit: Callable[[str, str], str] | None = None, safety: dict[str, str] | None = None) -> str:
     """MyRobot (a chain of revolute joints) with its arm's ``<ros2_control>`` tag; ``edit(joint, xml)`` changes one
-    joint's element."""
+    joint's element; ``safety`` gives joints a URDF ``<safety_controller>`` (joint -> its attributes)."""
     table = {name: (mode, lim) for name, mode, lim in JOINTS}
     links, tags = ['<link name="world"/>'], []
     parent = "world"
@@ -126,7 +127,9 @@ def _urdf(limits_file: Path | None, prefix: str = "", joints: Sequence[str] = ("
         name = f"{prefix}{joint}"
         links.append(f'<joint name="{name}" type="revolute"><parent link="{parent}"/><child link="{prefix}l{index}"/>'
                      f'<origin xyz="0.1 0 0"/><axis xyz="0 0 1"/><limit lower="{lower}" upper="{upper}" '
-                     f'velocity="{velocity}" effort="{effort}"/></joint><link name="{prefix}l{index}"/>')
+                     f'velocity="{velocity}" effort="{effort}"/>'
+                     + (f"<safety_controller {(safety or {})[joint]}/>" if joint in (safety or {}) else "")
+                     + f'</joint><link name="{prefix}l{index}"/>')
         parent = f"{prefix}l{index}"
         states = '<state_interface name="position"/><state_interface name="velocity"/>'
         if mode == "effort":
@@ -320,7 +323,7 @@ def _broken(folder: Path, joint: str, old: str, new: str) -> str:
     return _urdf(_limits_file(folder, LIMITS), edit=lambda j, xml: xml.replace(old, new) if j == joint else xml)
 
 
-@graded(points=2, hint=(
+@graded(after=("test_init_accepts_my_robot",), points=2, hint=(
     "Task 15.1: on_init refuses a joint that does not command exactly one of effort or position, or that does not "
     "report position and velocity: on every joint, not only the first.",
     _INIT_API,
@@ -355,7 +358,7 @@ def _logged(run: Callable[[], State]) -> tuple[State, list[str]]:
     return state, [r.getMessage() for r in handler.records]
 
 
-@graded(points=1, hint=(
+@graded(after=("test_init_accepts_my_robot", "test_init_refuses_wrong_interfaces"), points=1, hint=(
     "Task 15.1: when on_init refuses a description it logs why, naming the joint.",
     "self.logger is the component's logger: self.logger.error('...%s...', joint.name).",
     "self.logger.error(\"joint '%s' has command interfaces %s; a motor takes exactly one, effort or position\", "
@@ -375,7 +378,7 @@ def test_init_logs_why(hardware: type, folder: Path) -> None:
 # --------------------------------------------------------------------------------------------- 15.2 the limits file
 
 
-@graded(points=1, hint=(
+@graded(after=("test_init_accepts_my_robot",), points=1, hint=(
     "Task 15.2: the limits come from the file the hardware parameter joint_limits_file names; without it, or with a "
     "file that cannot be used (missing, a wrong value), on_init refuses and logs why instead of running unlimited.",
     "info.hardware_parameters.get('joint_limits_file'); load_joint_limits_yaml(path) raises an RRBotWorkshopError "
@@ -399,10 +402,50 @@ def test_init_refuses_a_missing_limits_file(hardware: type, folder: Path) -> Non
     assert not problems, f"your on_init, given {'; '.join(problems)}; refuse it and log why"
 
 
+def _init_answer(hardware: type, urdf: str) -> str | None:
+    """How on_init answered a description it must refuse: None when it returned ``CallbackReturn.ERROR`` (without
+    raising), else what it did, starting with the learner's file (and line, when it raised)."""
+    answers: list[Any] = []
+
+    class Answered(hardware):  # type: ignore[misc, valid-type]
+        def on_init(self, *args: Any, **kwargs: Any) -> Any:
+            answers.append(super().on_init(*args, **kwargs))
+            return answers[-1]
+
+    component = HardwareComponent(Answered())
+    component.initialize(_info(urdf))
+    if answers and answers[0] is CallbackReturn.ERROR:
+        return None
+    if answers:
+        return f"your {FILE}: on_init returned {answers[0]!r}"
+    exc = component.last_error
+    lines = [f.lineno for f in traceback.extract_tb(exc.__traceback__) if Path(f.filename).name == FILE] if exc else []
+    where = f"your {FILE}, line {lines[-1]}" if lines else f"your {FILE}"
+    return f"{where}: on_init raised {type(exc).__name__}" if exc else f"{where}: on_init did not return"
+
+
+@graded(points=1, after=("test_init_refuses_wrong_interfaces", "test_init_refuses_a_missing_limits_file"), hint=(
+    "Task 15.1-15.2: the TODOs say how on_init refuses: it logs why and returns CallbackReturn.ERROR. Not FAILURE, and "
+    "not an exception: the resource manager reads the return value.",
+    "Every refusal in on_init ends with `return CallbackReturn.ERROR` after self.logger.error(...); a try/except "
+    "around load_joint_limits_yaml turns its RRBotWorkshopError into that.",
+    "self.logger.error(\"...\", ...)\nreturn CallbackReturn.ERROR",
+))
+def test_init_refusal_returns_error(hardware: type, folder: Path) -> None:
+    Rig(hardware, _urdf(_limits_file(folder, LIMITS))).up()
+    wrong = {**LIMITS, "joint2": {**LIMITS["joint2"], "max_effort": "strong"}}
+    cases = ((_broken(folder, *_BROKEN[0][:3]), _BROKEN[0][3]), (_urdf(None), "no joint_limits_file parameter"),
+             (_urdf(_limits_file(folder, wrong)), "a joint_limits.yaml with max_effort: strong"))
+    for urdf, what in cases:
+        answer = _init_answer(hardware, urdf)
+        if answer is not None:
+            _fail(f"{answer} for a description with {what}; the TODO asks to log why and return CallbackReturn.ERROR")
+
+
 # --------------------------------------------------------------------------------------------- 15.3 write
 
 
-@graded(points=2, hint=(
+@graded(after=("test_init_accepts_my_robot",), points=2, hint=(
     "Task 15.3: within the limits, write sends each joint's command unchanged to the device, one per joint in the "
     "description's order: effort joints their effort, position joints their position.",
     "self.get_command(f'{joint}/{mode}') for each joint; self.device.write(commands, period) once per write.",
@@ -422,7 +465,7 @@ def test_commands_reach_the_device(hardware: type, folder: Path) -> None:
             "description's order)")
 
 
-@graded(points=2, hint=(
+@graded(after=("test_commands_reach_the_device",), points=2, hint=(
     "Task 15.3: an effort command beyond max_effort reaches the device as max_effort, in both directions, on every "
     "effort joint, with the joint_limits.yaml's value (ROS 1's EffortJointSaturationInterface).",
     "One limiter per joint from get_joint_limits(joint, params, info.limits.get(joint)); in write, "
@@ -446,7 +489,7 @@ def test_effort_saturated_at_the_yaml_max_effort(hardware: type, folder: Path) -
                     f"{dict((j, lim[3]) for j, _, lim in JOINTS)[joint]}: the yaml's value overrides it)")
 
 
-@graded(points=1, hint=(
+@graded(after=("test_effort_saturated_at_the_yaml_max_effort",), points=1, hint=(
     "Task 15.2: the yaml overrides the URDF's limits; a limit the yaml does not mention keeps the URDF's value.",
     "get_joint_limits(joint, params, limits) starts from limits: pass the URDF's, info.limits.get(joint), not None.",
     "hard = get_joint_limits(joint, params, info.limits.get(joint))",
@@ -467,7 +510,7 @@ def _position_only(limits: dict[str, dict[str, Any]]) -> dict[str, dict[str, Any
         "has_soft_limits", "k_position", "k_velocity", "soft_lower_limit", "soft_upper_limit")}}
 
 
-@graded(points=2, hint=(
+@graded(after=("test_commands_reach_the_device", "test_effort_saturated_at_the_yaml_max_effort"), points=2, hint=(
     "Task 15.3: a position command is rate-limited: each cycle the position joint's command moves at most "
     "max_velocity x period from the last command sent, in both directions, whatever the period.",
     "The limiter of a position joint gets desired = JointControlInterfacesData(joint, position=command) and the "
@@ -494,7 +537,7 @@ def test_position_rate_limited(hardware: type, folder: Path) -> None:
                 last = expected
 
 
-@graded(points=1, hint=(
+@graded(after=("test_position_rate_limited",), points=1, hint=(
     "Task 15.3: a position command beyond the position limits reaches the device clamped to min_position or "
     "max_position of the yaml: both bounds.",
     "The position joint's limiter clamps desired.position into [min_position, max_position].",
@@ -514,7 +557,7 @@ def test_position_range(hardware: type, folder: Path) -> None:
                                      f"limit is {bound}")
 
 
-@graded(points=2, hint=(
+@graded(after=("test_effort_saturated_at_the_yaml_max_effort",), points=2, hint=(
     "Task 15.2-15.3: a joint with soft limits (joint1) is slowed down as it nears its soft bound: the velocity allowed "
     "is k_position x (distance to the bound), and the effort is cut to k_velocity x (allowed velocity - velocity), "
     "so the joint stops at the bound instead of running into its hard limit.",
@@ -531,7 +574,25 @@ def test_soft_limits_slow_the_effort_joint(hardware: type, folder: Path) -> None
                 f"joint1 pushed with {50.0 * sign} N m toward its soft {'upper' if sign > 0 else 'lower'} limit")
 
 
-@graded(points=1, hint=(
+#: joint2's soft limits in the URDF (``<safety_controller>``), where the joint_limits.yaml gives it none.
+SAFETY = {"joint2": 'soft_lower_limit="-0.7" soft_upper_limit="0.6" k_position="3.0" k_velocity="5.0"'}
+
+
+@graded(after=("test_soft_limits_slow_the_effort_joint",), points=1, hint=(
+    "Task 15.2-15.3: the URDF's <safety_controller> gives a joint soft limits where the joint_limits.yaml gives none: "
+    "the yaml's soft limits override the URDF's, as its hard limits override <limit>.",
+    "get_soft_joint_limits(joint, params, soft) falls back on soft: pass the URDF's, info.soft_limits.get(joint).",
+    "soft = get_soft_joint_limits(joint, params, info.soft_limits.get(joint))",
+))
+def test_urdf_safety_controller_where_the_yaml_is_silent(hardware: type, folder: Path) -> None:
+    urdf = _urdf(_limits_file(folder, LIMITS), safety=SAFETY)
+    for sign in (1.0, -1.0):
+        _follow(hardware, urdf, LIMITS, {"joint1/effort": 0.0, "joint2/effort": 50.0 * sign, "joint3/position": 0.0},
+                2.0, 0.01, f"joint2 (soft limits in the URDF's <safety_controller> only) pushed with {50.0 * sign} N m")
+
+
+@graded(after=("test_effort_saturated_at_the_yaml_max_effort", "test_soft_limits_slow_the_effort_joint"), points=1,
+        hint=(
     "Task 15.2-15.3: a joint without soft limits (joint2) is only saturated: its effort is clipped at max_effort and cut "
     "once the joint is faster than max_velocity; no soft slowing.",
     "A JointSaturationLimiter([joint], [hard]) for a joint whose get_soft_joint_limits(...) is None.",
@@ -544,9 +605,9 @@ def test_saturation_only_without_soft_limits(hardware: type, folder: Path) -> No
             2.0, 0.01, "joint2 (no soft limits) pushed with -50 N m")
 
 
-@graded(points=2, hint=(
-    "Task 15.2-15.3: the position joint (joint3) with soft limits approaches its soft bound ever more slowly "
-    "(k_position x distance per second, at most max_velocity) and never passes it (ROS 1's "
+@graded(after=("test_soft_limits_slow_the_effort_joint", "test_position_rate_limited"), points=2, hint=(
+    "Task 15.2-15.3: the position joint (joint3) with soft limits approaches its soft bound ever more slowly (the "
+    "velocity allowed is k_position x (distance to the bound), at most max_velocity) and never passes it (ROS 1's "
     "PositionJointSoftLimitsInterface).",
     "joint3's limiter is a JointSoftLimiter; its desired carries the position command, its actual the position and "
     "velocity states.",
@@ -560,7 +621,8 @@ def test_soft_limits_on_the_position_joint(hardware: type, folder: Path) -> None
                 4.0, 0.01, f"joint3 commanded to {target} rad")
 
 
-@graded(points=1, hint=(
+@graded(after=("test_init_accepts_my_robot", "test_effort_saturated_at_the_yaml_max_effort",
+               "test_soft_limits_slow_the_effort_joint"), points=1, hint=(
     "Task 15.2: the limits follow the joints' names: a robot whose joints are prefixed gets the limits the yaml gives "
     "those names.",
     "Look each joint up by its own name, joint.name from info, in get_joint_limits and get_soft_joint_limits.",
@@ -643,7 +705,7 @@ def _robot_urdf() -> str:
     return urdf
 
 
-@graded(points=2, hint=(
+@graded(after=("test_yaml_declares_jazzy_controllers",), points=2, hint=(
     "Task 15.4: on MyRobot, the controllers of your YAML come up together and each holds what its ROS 1 controller "
     "held: joint1's effort (reading its position), joint2's effort, joint3's position; the manager runs at 100 Hz and "
     "the broadcaster at 50 Hz (ROS 1's publish_rate).",
@@ -688,7 +750,7 @@ def test_yaml_controllers_on_my_robot(task_file: Callable[[int, str], Path]) -> 
         assert not problems, f"with your {YAML} on MyRobot: {'; '.join(problems)}"
 
 
-@graded(points=1, hint=(
+@graded(after=("test_yaml_controllers_on_my_robot",), points=1, hint=(
     "Task 15.4: joint1's PID has ROS 1's gains, p 100, i 0.01, d 10: commanded a position, it sends the effort they "
     "give.",
     "pid_controller reads its gains per DOF: gains.<dof>.p, .i, .d in its ros__parameters.",

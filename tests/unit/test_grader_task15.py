@@ -7,7 +7,11 @@ alternative is written differently and must get full marks.
 
 from __future__ import annotations
 
+import json
+import re
+
 import pytest
+from grader_causes import assert_one_cause, check_specs, unknown_after
 from grader_variants import Variant, assert_full_marks, assert_loses_points, grade_variants
 
 from rrbot_workshop.course import tracks
@@ -57,13 +61,38 @@ WRONG = [
           ("                if soft is not None:\n", "                if False:\n")),
     wrong("soft_limits_looked_up_under_joint1", {"limits_follow_renamed_joints"},
           ("                soft = get_soft_joint_limits(joint, params, info.soft_limits.get(joint))\n",
-           '                soft = get_soft_joint_limits(joint.replace("left_", ""), params, None)\n'
+           '                soft = get_soft_joint_limits(joint.replace("left_", ""), params, info.soft_limits.get(joint))\n'
            '                soft = get_soft_joint_limits("joint1", params) if joint.endswith("joint1") else soft\n')),
     wrong("missing_limits_file_runs_unlimited", {"init_refuses_a_missing_limits_file"},
           ('        if not path:\n            self.logger.error("\'%s\' needs the hardware parameter joint_limits_file '
            '(the joint_limits.yaml)", info.name)\n            return CallbackReturn.ERROR\n', ""),
           ("            params = load_joint_limits_yaml(path)\n",
            "            params = load_joint_limits_yaml(path) if path else {}\n")),
+    # the TODOs state the refusal's return value: CallbackReturn.ERROR, not FAILURE nor an exception
+    Variant("refusal_returns_failure", {PY: [(
+        '                                  "or position", joint.name, commands)\n                return CallbackReturn.ERROR\n',
+        '                                  "or position", joint.name, commands)\n                return CallbackReturn.FAILURE\n')]},
+        fails={"init_refusal_returns_error"}, only=True, says={"init_refusal_returns_error": "returned"}),
+    Variant("unusable_limits_file_raises", {PY: [(
+        "            self.logger.error(\"'%s': the joint limits cannot be used: %s\", info.name, exc)\n"
+        "            return CallbackReturn.ERROR\n",
+        "            raise ValueError(f\"the joint limits cannot be used: {exc}\") from exc\n")]},
+        fails={"init_refusal_returns_error"}, names_file=PY, says={"init_refusal_returns_error": "raised ValueError"}),
+    # validation before anything starts: the limits file is on_init's to check, not on_configure's
+    Variant("limits_file_checked_only_in_on_configure", {PY: [
+        ('        path = info.hardware_parameters.get("joint_limits_file", "")\n',
+         "        self.info_for_limits = info\n        return CallbackReturn.SUCCESS\n\n"
+         "    def load_limits(self, info):\n"
+         '        path = info.hardware_parameters.get("joint_limits_file", "")\n'),
+        ("        self.device = MyRobotDevice(self.modes)\n",
+         "        if self.load_limits(self.info_for_limits) is not CallbackReturn.SUCCESS:\n"
+         "            return CallbackReturn.ERROR\n        self.device = MyRobotDevice(self.modes)\n")]},
+        fails={"init_refuses_a_missing_limits_file"}),
+    Variant("urdf_safety_controller_ignored", {PY: [(
+        "                soft = get_soft_joint_limits(joint, params, info.soft_limits.get(joint))\n",
+        "                soft = get_soft_joint_limits(joint, params)\n")]},
+        fails={"urdf_safety_controller_where_the_yaml_is_silent"}, only=True,
+        says={"urdf_safety_controller_where_the_yaml_is_silent": "safety_controller"}),
     wrong("limiters_in_reverse_order", {"effort_saturated_at_the_yaml_max_effort"},
           ("zip(self.joints, self.modes, self.limiters, strict=True)",
            "zip(self.joints, self.modes, self.limiters[::-1], strict=True)")),
@@ -279,3 +308,30 @@ def test_wrong_solution_loses_points(rubrics: dict, variant: Variant) -> None:
 @pytest.mark.parametrize("variant", RIGHT, ids=str)
 def test_alternative_solution_gets_full_marks(rubrics: dict, variant: Variant) -> None:
     assert_full_marks(rubrics[variant.name])
+
+
+@pytest.mark.parametrize("variant", WRONG, ids=str)
+def test_one_slip_shows_hints_for_one_check(rubrics: dict, variant: Variant) -> None:
+    assert_one_cause(rubrics[variant.name], check_specs(15), variant.name)
+
+
+def test_after_names_checks_of_the_grader() -> None:
+    assert not unknown_after(check_specs(15))
+
+
+def _formulas(text: str) -> set[str]:
+    """The soft-limit formulas in a text (``k_position x (...)``, ``k_velocity x (...)``), written one way: ``x`` for
+    the product, ``-`` for the minus, no backticks, single spaces."""
+    plain = " ".join(text.replace("×", "x").replace("−", "-").replace("`", "").split())
+    return set(re.findall(r"k_(?:position|velocity) x \([^)]*\)", plain))
+
+
+def test_hint_formulas_are_notebook_15s() -> None:
+    """Every soft-limit formula a task-15 hint writes is written the same way in notebook 15's text (the velocity
+    allowed k_position x (distance to the bound), the effort cut to k_velocity x (allowed velocity - velocity))."""
+    notebook = next((tracks.course_root() / "notebooks").glob("15_*.ipynb"))
+    text = " ".join("".join(cell["source"]) for cell in json.loads(notebook.read_text())["cells"]
+                    if cell["cell_type"] == "markdown")
+    in_hints = set().union(*(_formulas(" ".join(spec.hints)) for spec in check_specs(15).values()))
+    assert {"k_position x (distance to the bound)", "k_velocity x (allowed velocity - velocity)"} <= in_hints
+    assert in_hints <= _formulas(text), f"hint formulas not in notebook 15: {sorted(in_hints - _formulas(text))}"
