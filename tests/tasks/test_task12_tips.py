@@ -20,7 +20,6 @@ so task 12 never depends on the learner's task 7.
 
 from __future__ import annotations
 
-import importlib.util
 import shutil
 import sys
 from collections.abc import Callable, Iterator
@@ -84,18 +83,19 @@ def package_copy(task_file: Callable[[int, str], Path], tmp_path_factory: pytest
 
 
 @pytest.fixture(scope="module")
-def bringup_module(package_copy: Path) -> ModuleType:
-    """The learner's bringup.py (from :func:`package_copy`), imported afresh; an error in it propagates with its file
-    and line."""
-    path = package_copy / Path(BRINGUP).name
+def bringup_module(package_copy: Path, task_file: Callable[[int, str], Path]) -> ModuleType:
+    """The learner's bringup.py, imported afresh from :func:`package_copy` (its ``__file__`` there, so the files it
+    reads beside it are the copy's) but compiled under the learner's own path: an error in it propagates with the
+    learner's file and line."""
+    original = task_file(TASK, BRINGUP)
+    path = package_copy / original.name
     name = "rrbot_workshop_graded_task12_bringup"
-    spec = importlib.util.spec_from_file_location(name, path)
-    assert spec is not None and spec.loader is not None, f"{BRINGUP} cannot be loaded as a Python module"
-    module = importlib.util.module_from_spec(spec)
+    module = ModuleType(name)
+    module.__file__ = str(path)
     sys.modules[name] = module
     sys.path.insert(0, str(path.parent))
     try:
-        spec.loader.exec_module(module)
+        exec(compile(path.read_bytes(), str(original), "exec"), module.__dict__)  # noqa: S102 - the learner's module
     finally:
         sys.path.remove(str(path.parent))
     if not callable(getattr(module, "start_rrbot", None)):

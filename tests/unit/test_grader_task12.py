@@ -93,7 +93,7 @@ WRONG = [
                                                                    'controller")\n')]},
             fails={"refusal_names_the_valid_controllers"}),
     Variant("refused_with_another_exception", {BRINGUP: [(RAISE, RAISE.replace("ValueError", "KeyError"))]},
-            fails={"unknown_robot_controller_refused", "refusal_names_the_valid_controllers"}),
+            fails={"unknown_robot_controller_refused", "refusal_names_the_valid_controllers"}, names_file="bringup.py"),
     Variant("refused_after_starting_the_robot", {BRINGUP: [
         (CHECK + RAISE, ""),
         ("    return rw.bringup(", "    system = rw.bringup("),
