@@ -402,7 +402,7 @@ def test_joint_limits(learner: ModuleType, urdfs: dict[str, str], limits: dict[s
                       f"{_num(expected[2])})")
 
 
-@graded(points=1, hint=(
+@graded(points=1, after=("test_joint_limits",), hint=(
     "Task 13.1: a joint that no <ros2_control> tag names, or that has no position or velocity limit (a continuous "
     "joint has no position limits), cannot be planned for: refuse it with a ValueError that names it.",
     "JointLimits has has_position_limits and has_velocity_limits; a name missing from every HardwareInfo.limits is "
@@ -430,7 +430,8 @@ _GOAL_HINT = (
     "        raise ValueError(f\"goal {g} of joint '{name}' is outside [{low}, {high}]\")")
 
 
-@graded(points=2, hint=_GOAL_HINT)
+@graded(points=2, after=("test_joint_limits",),
+        hint=_GOAL_HINT)
 def test_goal_outside_limits_is_refused(learner: ModuleType, urdfs: dict[str, str],
                                         limits: dict[str, dict[str, Any]]) -> None:
     fn = _function(learner, "plan")
@@ -448,7 +449,7 @@ def test_goal_outside_limits_is_refused(learner: ModuleType, urdfs: dict[str, st
                             f"{[round(x, 4) for x in goal]} ({bad} {side})", bad)
 
 
-@graded(points=1, hint=(
+@graded(points=1, after=("test_joints_in_the_order_asked",), hint=(
     "Task 13.2: ruckig cannot plan with a zero jerk or acceleration limit; it refuses with its own RuckigError. The "
     "docstring promises a ValueError when ruckig finds no trajectory, so a caller needs to catch one error only.",
     "Ruckig(n).calculate raises ruckig.RuckigError for limits it cannot use, and returns a Result that is neither "
@@ -477,7 +478,8 @@ def test_impossible_limits_are_refused(learner: ModuleType, urdfs: dict[str, str
         _fail(message)  # outside the except: the reason is this one, not the learner's exception
 
 
-@graded(points=1, hint=(
+@graded(points=1, after=("test_joint_limits", "test_goal_outside_limits_is_refused"),
+        hint=(
     "Task 13.2: the trajectory names the joints in the order they were asked (joint_names as given, not sorted), and "
     "every point's positions, velocities and accelerations follow that order.",
     "JointTrajectory(joint_names=list(joint_names), ...); start, goal and the limits are given in that order too.",
@@ -489,7 +491,8 @@ def test_joints_in_the_order_asked(learner: ModuleType, urdfs: dict[str, str]) -
             _fail(problem)
 
 
-@graded(points=1, after=("test_joints_in_the_order_asked",), hint=(
+@graded(points=1, after=("test_joints_in_the_order_asked", "test_ends_at_the_goal_at_rest"),
+        hint=(
     "Task 13.2: position limits are inclusive: a goal exactly at min_position or max_position is within them and "
     "must be planned.",
     "Compare with <= on both sides, not <.",
@@ -527,7 +530,8 @@ def test_lengths_that_differ_are_refused(learner: ModuleType, urdfs: dict[str, s
                         "plan() with one joint and two start and goal positions")
 
 
-@graded(points=3, after=("test_joints_in_the_order_asked",), hint=(
+@graded(points=3, after=("test_joints_in_the_order_asked",),
+        hint=(
     "Task 13.2: ruckig keeps velocity, acceleration and jerk within the limits it is given: give it the description's "
     "velocity limit of each joint (in the order asked) and the acceleration and jerk limits you are given, and copy "
     "its velocities and accelerations into every point.",
@@ -539,7 +543,8 @@ def test_limits_respected(learner: ModuleType, urdfs: dict[str, str], limits: di
     _each_move(learner, urdfs, lambda points, move: _limits_problem(points, move, limits[move.robot]))
 
 
-@graded(points=2, after=("test_joints_in_the_order_asked",), hint=(
+@graded(points=2, after=("test_joints_in_the_order_asked", "test_limits_respected", "test_sampled_every_sample_period"),
+        hint=(
     "Task 13.2: the JTC interpolates between points with quintics from their positions, velocities and accelerations: "
     "they must be ruckig's, all three at the point's time, so that the JTC follows ruckig's motion.",
     "trajectory.at_time(t) returns (positions, velocities, accelerations) at t; use all three, at the same t as "
@@ -551,7 +556,8 @@ def test_points_carry_the_motion(learner: ModuleType, urdfs: dict[str, str]) -> 
     _each_move(learner, urdfs, _motion_problem)
 
 
-@graded(points=2, after=("test_joints_in_the_order_asked",), hint=(
+@graded(points=2, after=("test_joints_in_the_order_asked",),
+        hint=(
     "Task 13.2: a jerk-limited move of several joints is synchronized: every joint arrives at its goal at the same "
     "time, the slower joints' duration. ruckig does it when it plans all joints in one InputParameter with its default "
     "synchronization; planning each joint alone lets the short moves end early.",
@@ -562,7 +568,8 @@ def test_joints_arrive_together(learner: ModuleType, urdfs: dict[str, str]) -> N
     _each_move(learner, urdfs, _sync_problem)
 
 
-@graded(points=2, after=("test_joints_in_the_order_asked",), hint=(
+@graded(points=2, after=("test_joints_in_the_order_asked",),
+        hint=(
     "Task 13.2: sample the motion every sample_period, whatever value it has (not only 0.01 s): points at most "
     "sample_period apart, as many as the duration needs, then a last point at the motion's duration.",
     "Times k * sample_period for k = 1 .. ceil(duration / sample_period) - 1 (0 may be included), then duration "
@@ -572,7 +579,8 @@ def test_sampled_every_sample_period(learner: ModuleType, urdfs: dict[str, str])
     _each_move(learner, urdfs, _sampling_problem)
 
 
-@graded(points=1, after=("test_joints_in_the_order_asked",), hint=(
+@graded(points=1, after=("test_joints_in_the_order_asked", "test_limits_respected", "test_sampled_every_sample_period"),
+        hint=(
     "Task 13.2: the move ends where it was asked to, at rest: the last point is the goal with zero velocity and "
     "acceleration.",
     "trajectory.at_time(trajectory.duration) is ruckig's final state; or write the goal itself with zeros.",
@@ -582,7 +590,9 @@ def test_ends_at_the_goal_at_rest(learner: ModuleType, urdfs: dict[str, str]) ->
     _each_move(learner, urdfs, _end_problem)
 
 
-@graded(points=2, after=("test_joints_in_the_order_asked",), hint=(
+@graded(points=2, after=("test_joints_in_the_order_asked", "test_limits_respected",
+               "test_sampled_every_sample_period", "test_ends_at_the_goal_at_rest"),
+        hint=(
     "Task 13.2: ruckig's motion is the fastest within the limits; the last point's time_from_start is its duration. "
     "Slower means a smaller limit than the description's (or a hard-coded one).",
     "trajectory.duration after Ruckig(n).calculate(inp, trajectory); each joint's velocity limit is "
@@ -630,7 +640,9 @@ def _moves(limits: dict[str, dict[str, Any]]) -> st.SearchStrategy[Move]:
     return moves()
 
 
-@graded(points=3, after=("test_joints_in_the_order_asked",), hint=(
+@graded(points=3, after=("test_limits_respected", "test_points_carry_the_motion", "test_joints_arrive_together",
+               "test_sampled_every_sample_period", "test_ends_at_the_goal_at_rest", "test_time_optimal"),
+        hint=(
     "Task 13.2: on any move the task allows (either description, joints in any order, goals up to the limits, other "
     "acceleration and jerk limits and sample periods), your trajectory must do what ruckig's does: same duration, "
     "joints arriving together, limits respected, sampled every sample_period, ending at the goal at rest.",
@@ -708,7 +720,9 @@ class _Differs(Exception):
     """A generated move on which the learner's trajectory is not what ruckig's is."""
 
 
-@graded(points=3, after=("test_joints_in_the_order_asked",), hint=(
+@graded(points=3, after=("test_limits_respected", "test_points_carry_the_motion", "test_sampled_every_sample_period",
+               "test_ends_at_the_goal_at_rest", "test_time_optimal"),
+        hint=(
     "Task 13: the joint trajectory controller must accept your trajectory and the robot must end at the goal "
     "(within 1 mrad): strictly increasing times, every field one value per joint, the joints in the order you "
     "name them.",
