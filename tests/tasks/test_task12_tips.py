@@ -390,7 +390,15 @@ UNKNOWN = ("joint_state_broadcaster", "forward_position_controllers", "")
     "if robot_controller not in (\"forward_position_controller\", \"joint_trajectory_controller\"):\n"
     "    raise ValueError(...)",
 ))
-def test_unknown_robot_controller_refused(bringup_module: ModuleType) -> None:
+def test_unknown_robot_controller_refused(bringup_module: ModuleType, monkeypatch: pytest.MonkeyPatch) -> None:
+    started: list[str] = []  # every system brought up, even one shut down again before the ValueError
+    bring_up = System.__init__
+
+    def counted(self: System, name: str, *args: Any, **kwargs: Any) -> None:
+        started.append(name)
+        bring_up(self, name, *args, **kwargs)
+
+    monkeypatch.setattr(System, "__init__", counted)
     for name in UNKNOWN:
         call = _call({"robot_controller": name})
         try:
@@ -401,6 +409,8 @@ def test_unknown_robot_controller_refused(bringup_module: ModuleType) -> None:
             pytest.fail(f"{call} started a robot; an unknown robot_controller must raise ValueError", pytrace=False)
         left = sorted(systems())
         assert not left, f"{call} raised, but left the system(s) {left} running: refuse before starting anything"
+        assert not started, (f"{call} raised ValueError, but only after bringing up the system(s) {started} (shut "
+                             "down again): refuse before starting anything")
 
 
 @graded(points=1, after=("test_unknown_robot_controller_refused",), hint=(

@@ -106,6 +106,11 @@ WRONG = [
                 "    system.controller_manager.switch_controllers(activate=[robot_controller], strictness='strict')\n"
                 "    return system"),
     ]}, fails={"unknown_robot_controller_refused"}),
+    Variant("refused_after_a_trial_start", {BRINGUP: [(CHECK, CHECK + (
+        '        rw.bringup("rrbot", load_with_substitutions(CONTROLLERS, {"prefix": prefix}), '
+        'xacro_args={"prefix": prefix}, spawn=["joint_state_broadcaster"]).shutdown()\n'))]},
+            fails={"unknown_robot_controller_refused"}, only=True,
+            says={"unknown_robot_controller_refused": "only after bringing up"}),
     Variant("mock_hardware_always", {BRINGUP: [(XACRO, XACRO.replace('"use_mock_hardware": use_mock_hardware',
                                                                      '"use_mock_hardware": True'))]},
             fails={"use_mock_hardware_is_injected", "any_arguments_match_the_launch_file"}),
