@@ -258,7 +258,18 @@ joint3_position_controller:
   ros__parameters: {joints: [joint3], interface_name: position}
 '''
 
+#: The solution's controllers in flow style, each type in the controller's own section, the manager as /**/.
+FLOW_YAML = """/**/controller_manager: {ros__parameters: {update_rate: 100}}
+joint_state_broadcaster: {ros__parameters: {type: joint_state_broadcaster/JointStateBroadcaster, update_rate: 50}}
+joint1_position_controller: {ros__parameters: {type: pid_controller/PidController, dof_names: [joint1],
+  command_interface: effort, reference_and_state_interfaces: [position], gains: {joint1: {p: 100.0, i: 0.01, d: 10.0}}}}
+joint2_effort_controller: {ros__parameters: {type: effort_controllers/JointGroupEffortController, joints: [joint2]}}
+joint3_position_controller: {ros__parameters: {type: position_controllers/JointGroupPositionController,
+  joints: [joint3]}}
+"""
+
 RIGHT = [
+    Variant("yaml_flow_style_types_in_own_sections", {YAML: FLOW_YAML}),
     Variant("written_another_way", {PY: ALT_HARDWARE}),
     Variant("yaml_types_under_the_manager_and_forward_controllers", {YAML: ALT_YAML}),
     # the soft limiter chosen first, the limiters kept by joint name, the commands gathered in a dict
