@@ -15,6 +15,7 @@ from grader_causes import assert_one_cause, check_specs, unknown_after
 from grader_variants import Variant, assert_full_marks, assert_loses_points, grade_variants
 
 from rrbot_workshop.course import tracks
+from rrbot_workshop.course.grading import grade
 
 HAS_SOLUTIONS = (tracks.course_root() / "solutions").is_dir()
 pytestmark = pytest.mark.skipif(not HAS_SOLUTIONS, reason="this copy of the course has no solutions/")
@@ -346,3 +347,13 @@ def test_hint_formulas_are_notebook_15s() -> None:
     in_hints = set().union(*(_formulas(" ".join(spec.hints)) for spec in check_specs(15).values()))
     assert {"k_position x (distance to the bound)", "k_velocity x (allowed velocity - velocity)"} <= in_hints
     assert in_hints <= _formulas(text), f"hint formulas not in notebook 15: {sorted(in_hints - _formulas(text))}"
+
+
+def test_exercise_as_handed_out_gets_a_clear_reason() -> None:
+    """The untouched exercise scores 0, and its first causes' reasons say where to start: the learner's file and line,
+    and the TODO still to write."""
+    rubric = grade(15, track="exercises", record=False)
+    assert rubric.score == 0, rubric.format()
+    reasons = " ".join(check.detail for check in rubric.failed() if not check.blocked_by)
+    for phrase in ("my_robot_hardware.py, line", "TODO(task 15.1)"):
+        assert phrase in reasons, rubric.format()
