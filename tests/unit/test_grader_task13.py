@@ -8,6 +8,7 @@ from grader_causes import assert_one_cause, check_specs, unknown_after
 from grader_variants import Variant, assert_full_marks, assert_loses_points, grade_variants
 
 from rrbot_workshop.course import tracks
+from rrbot_workshop.course.grading import grade
 
 HAS_SOLUTIONS = (tracks.course_root() / "solutions").is_dir()
 pytestmark = pytest.mark.skipif(not HAS_SOLUTIONS, reason="this copy of the course has no solutions/")
@@ -370,3 +371,13 @@ def test_after_names_checks_of_the_grader() -> None:
 
 def test_there_are_enough_variants() -> None:
     assert len(WRONG) >= 12 and len(RIGHT) >= 3
+
+
+def test_exercise_as_handed_out_gets_a_clear_reason() -> None:
+    """The untouched exercise scores 0, and its first cause's reason says where to start: the learner's file and line,
+    and the TODO still to write."""
+    rubric = grade(13, track="exercises", record=False)
+    assert rubric.score == 0, rubric.format()
+    reasons = " ".join(check.detail for check in rubric.failed() if not check.blocked_by)
+    for phrase in ("jerk_limited.py, line", "TODO(task 13.1)"):
+        assert phrase in reasons, rubric.format()
