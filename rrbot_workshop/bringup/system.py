@@ -14,6 +14,7 @@ import logging
 import re
 import shlex
 from collections.abc import Iterable, Mapping
+from fractions import Fraction
 from pathlib import Path
 from types import TracebackType
 from typing import Any
@@ -162,8 +163,10 @@ class System:
         if not self._running:
             raise HardwareError(f"system '{self.name}' is shut down; bring up a new one")
 
-    def spin_cycles(self, n: int) -> float:
-        """Run ``n`` control cycles; returns the time after the last one in [s].
+    def spin_cycles(self, n: int, since: Fraction | None = None) -> float:
+        """Run ``n`` control cycles; returns the time after the last one in [s] (plus ``since``, the time run after
+        it, as :meth:`~rrbot_workshop.middleware.clock.Clock.plan` gives it; None keeps the time already run since the
+        last cycle when ``n`` is 0, and none is left after a cycle).
 
         The cycles run as :func:`~rrbot_workshop.controller_manager.node_loop.run_cycles` runs them: with Python's
         garbage collector paused until the batch ends.
@@ -175,6 +178,8 @@ class System:
         if isinstance(self.clock, WallClock):
             self.clock.reset_pacing()
         run_cycles(self.controller_manager.update, self.clock.tick, self.clock.period, int(n))
+        if since is not None:
+            self.clock.advance(since)
         for listener in list(self._spin_listeners):
             try:
                 listener(self)
@@ -222,8 +227,19 @@ class System:
             self._background = None
 
     def spin(self, seconds: float) -> float:
-        """Run for ``seconds`` [s] of (simulated) time, rounded to whole cycles; returns the time in [s]."""
-        return self.spin_cycles(self.clock.cycles_for(seconds))
+        """Run for ``seconds`` [s] of (simulated) time; returns the time in [s].
+
+        Time advances by exactly ``seconds`` (read as a fraction: ``1/30`` is one thirtieth), and every cycle whose time falls within them
+        runs, at the manager's rate (each controller at its own). Time between cycles carries over to the next
+        call: ``spin(1/30)`` six times on a 10 Hz loop runs the same two cycles as ``spin(0.2)``.
+
+        Raises:
+            HardwareError: If the system is shut down.
+            ValueError: If ``seconds`` is negative or not finite.
+        """
+        self._check_running()
+        cycles, since = self.clock.plan(seconds)
+        return self.spin_cycles(cycles, since=since)
 
     def spin_until(self, predicate: Any, timeout: float) -> bool:
         """Run cycle by cycle until ``predicate()`` is true or ``timeout`` [s] of simulated time passes.
