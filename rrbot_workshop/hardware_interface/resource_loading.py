@@ -12,7 +12,6 @@ component and calls them in :func:`cycle_order`.
 from __future__ import annotations
 
 import logging
-
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
