@@ -302,9 +302,7 @@ class Pid:
             if _is_zero(dt):
                 return self._cmd
             return self._step(error, error_dot, dt)
-        raise TypeError(
-            f"compute_command takes (error, dt) or (error, error_dot, dt), got {1 + len(args)} arguments"
-        )
+        raise AssertionError("unreachable: the argument count is checked first")
 
     @staticmethod
     def _check_dt(dt: float) -> None:
