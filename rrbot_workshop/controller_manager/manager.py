@@ -49,9 +49,10 @@ from rrbot_workshop.controller_manager.spec import (
     SwitchResult,
 )
 from rrbot_workshop.controller_manager.statistics import ControllerStatistics
-from rrbot_workshop.controller_manager.switch import Switcher, name_list
-from rrbot_workshop.exceptions import ControllerError, HardwareError, LifecycleError, PluginNotFound
+from rrbot_workshop.controller_manager.switch import Switcher, name_list, normalize_strictness
+from rrbot_workshop.exceptions import ArgumentError, ControllerError, HardwareError, LifecycleError, PluginNotFound
 from rrbot_workshop.hardware_interface.resource_manager import ResourceManager
+from rrbot_workshop.middleware.arguments import callable_argument, number
 from rrbot_workshop.middleware.clock import Clock, SimClock
 from rrbot_workshop.middleware.controllers_yaml import MANAGER_NODE
 from rrbot_workshop.middleware.lifecycle import State
@@ -158,7 +159,8 @@ class ControllerManager:
 
     @default_strictness.setter
     def default_strictness(self, value: str) -> None:
-        self._switcher.default_strictness = value
+        """Raises ControllerError (naming strictness and the valid values) for an unknown strictness."""
+        self._switcher.default_strictness = normalize_strictness(value)
 
     @property
     def handle_exceptions(self) -> bool:
@@ -167,6 +169,9 @@ class ControllerManager:
 
     @handle_exceptions.setter
     def handle_exceptions(self, value: bool) -> None:
+        """Raises ArgumentError unless ``value`` is a bool (as the ROS parameter's type)."""
+        if not isinstance(value, bool):
+            raise ArgumentError("ControllerManager", "handle_exceptions", value, "True or False")
         self._loop.handle_exceptions = bool(value)
         self.resource_manager.handle_exceptions = bool(value)
 
@@ -327,10 +332,14 @@ class ControllerManager:
         Raises:
             SwitchError: If the switch is rejected; its ``reasons`` name the controllers and interfaces.
             ControllerError: If ``strictness`` is not valid.
+            ArgumentError: If ``activate_asap`` is not a bool or ``timeout`` not a number.
         """
         if isinstance(activate, str) or isinstance(deactivate, str):
             raise ControllerError("activate and deactivate take lists of controller names, not a single string")
         activate, deactivate = name_list(activate, "activate"), name_list(deactivate, "deactivate")
+        if not isinstance(activate_asap, bool):
+            raise ArgumentError("switch_controllers", "activate_asap", activate_asap, "True or False")
+        number("switch_controllers", "timeout", timeout, finite=False)
         return self._switcher.switch(activate, deactivate, strictness)
 
     def explain_switch(
@@ -343,7 +352,12 @@ class ControllerManager:
 
     # ================================================================= the loop
     def add_cycle_hook(self, fn: CycleHook) -> Callable[[], None]:
-        """Call ``fn(time, period)`` after every cycle (recorders, viewers). Returns a remover."""
+        """Call ``fn(time, period)`` after every cycle (recorders, viewers). Returns a remover.
+
+        Raises:
+            ArgumentError: If ``fn`` cannot be called.
+        """
+        callable_argument("add_cycle_hook", "hook", fn, "a function taking (time, period)")
         return self._hooks.add(fn)
 
     def read(self, time: float, period: float) -> None:
@@ -432,6 +446,9 @@ class ControllerManager:
         Raises:
             HardwareError: If there is no such component or the state label is invalid.
         """
+        if not isinstance(name, str):
+            raise HardwareError(f"hardware component name must be a string, got {name!r} (valid: "
+                                f"{', '.join(self.resource_manager.component_names())})")
         try:
             target = state if isinstance(state, State) else State.from_label(state)
         except ValueError as exc:

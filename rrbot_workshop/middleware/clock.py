@@ -22,6 +22,8 @@ import time as _time
 from collections.abc import Callable
 from fractions import Fraction
 
+from rrbot_workshop.exceptions import ArgumentError
+
 __all__ = ["Clock", "SimClock", "WallClock", "make_clock", "rate_due", "exact_seconds"]
 
 _log = logging.getLogger(__name__)
@@ -173,7 +175,7 @@ def make_clock(kind: str | Clock, update_rate: int) -> Clock:
     """A clock from ``"sim"`` or ``"wall"`` (or a ready clock, returned as is).
 
     Raises:
-        ValueError: If ``kind`` is another string.
+        ArgumentError: If ``kind`` is neither ``"sim"``, ``"wall"`` nor a clock (a :class:`ValueError` too).
     """
     if isinstance(kind, Clock):
         return kind
@@ -181,7 +183,7 @@ def make_clock(kind: str | Clock, update_rate: int) -> Clock:
         return SimClock(update_rate)
     if kind == "wall":
         return WallClock(update_rate)
-    raise ValueError(f"unknown clock '{kind}' (valid: 'sim', 'wall')")
+    raise ArgumentError("bringup", "clock", kind, "'sim', 'wall' or a clock object")
 
 
 def rate_due(last: float | None, time: float, rate: int, cm_rate: int) -> bool:
