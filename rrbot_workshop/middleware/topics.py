@@ -286,9 +286,9 @@ class TopicBus:
         known = self._types.get(topic)
         if known is not None and not isinstance(msg, known):
             raise MessageError(f"topic '{topic}' carries {known.__name__}, got {type(msg).__name__}")
-        problem = message_problem(msg)
-        if problem:
-            raise MessageError(f"cannot publish the {type(msg).__name__} on '{topic}': its {problem}")
+        field_problem = message_problem(msg)
+        if field_problem:
+            raise MessageError(f"cannot publish the {type(msg).__name__} on '{topic}': its {field_problem}")
         if not self._subs.get(topic) and topic not in self._warned_no_subscriber:
             self._warned_no_subscriber.add(topic)
             close = self.similar_topics(topic, subscribed_only=True)
