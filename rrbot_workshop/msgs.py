@@ -462,7 +462,7 @@ def message_problem(msg: Any, path: str = "") -> str | None:
     if not dataclasses.is_dataclass(msg) or isinstance(msg, type):
         return None
     for name, annotation in _field_types(type(msg)):
-        value = getattr(msg, name, None)
+        value: Any = getattr(msg, name, None)
         where = f"{path}.{name}" if path else name
         if annotation.startswith("list[") and annotation.endswith("]"):
             kind = annotation[5:-1]
