@@ -260,18 +260,19 @@ class ControllerManager:
 
         Raises:
             ControllerNotFound: If it is not loaded.
-            ControllerError: If it is active or finalized, ``on_configure`` fails, or its exports are invalid.
+            ControllerError: If it is active or finalized, ``on_configure`` fails, its exports are invalid, or its
+                command or state interface configuration lists an interface twice (then it is unconfigured).
             ParameterError: If its parameters fail validation.
         """
         self._lifecycle.configure(name)
 
     @reports_activity
     def cleanup_controller(self, name: str) -> None:
-        """inactive -> unconfigured; its exported interfaces are removed.
+        """inactive -> unconfigured; its exported interfaces are removed. An unconfigured controller: nothing to do.
 
         Raises:
             ControllerNotFound: If it is not loaded.
-            ControllerError: If it is not inactive.
+            ControllerError: If it is active or finalized.
         """
         self._lifecycle.cleanup(name)
 
