@@ -277,7 +277,7 @@ class ControllerManager:
                 found = self.params.use_param_file(name, file)
             except ParameterError as exc:
                 why = str(exc).split(": ", 1)[1] if exc.owner == "parameter file" else str(exc)
-                raise ParameterError("controller_manager", param, f"cannot read {file} for controller '{name}': "
+                raise ParameterError("controller_manager", param, f"{file}, the params_file of controller '{name}', "
                                      f"{why}") from exc
             if declared_type:  # the manager's <name>.type names the plugin; the file's 'type' is only a parameter
                 self.params.controller_types[name] = declared_type

@@ -192,3 +192,56 @@ def test_the_dotted_and_typeless_forms_are_the_managers_parameter() -> None:
     assert (cfg.params_files_of("a"), cfg.params_files_of("b"), cfg.params_files_of("c")) == (["/x/a.yaml"],
                                                                                              ["/x/b.yaml"], [])
     assert "params_file" not in cfg.parameters_for("b") and "b" not in cfg.manager_parameters
+
+
+# ---------------------------------------------------------------------------------- lint
+
+
+def _lint(tmp_path: Path, params_file: object, namespace_key: str = "controller_manager") -> list:
+    from rrbot_workshop.tools.lint import lint_controllers
+
+    yaml = tmp_path / "controllers.yaml"
+    yaml.write_text(manager_yaml(params_file, namespace_key))
+    return [f for f in lint_controllers(yaml) if "params_file" in f.where or "joints" in f.where]
+
+
+def test_lint_accepts_a_file_with_the_controllers_section_and_checks_its_parameters(own_file: Path,
+                                                                                   tmp_path: Path) -> None:
+    """The file exists and names the controller: no finding, and the file's ``joints`` count (the controllers YAML
+    alone has none, which lint reports as missing)."""
+    assert _lint(tmp_path, str(own_file)) == []
+    without = tmp_path / "controllers_without.yaml"
+    without.write_text(manager_yaml(str(own_file)).replace(f"      params_file: {str(own_file)!r}\n", ""))
+    from rrbot_workshop.tools.lint import lint_controllers
+
+    assert any("joints" in f.where and f.level == "error" for f in lint_controllers(without)), "the control case"
+
+
+def test_lint_reports_a_missing_file(tmp_path: Path) -> None:
+    missing = tmp_path / "nowhere.yaml"
+    (finding,) = [f for f in _lint(tmp_path, str(missing)) if "params_file" in f.where]
+    assert (finding.level, finding.where) == ("error", f"controller_manager.{FWD}.params_file")
+    assert str(missing) in finding.message and f"controller '{FWD}'" in finding.message
+    assert finding.line > 0
+
+
+def test_lint_reports_a_file_without_the_controllers_section(tmp_path: Path) -> None:
+    other = tmp_path / "other.yaml"
+    other.write_text("someone_else:\n  ros__parameters:\n    joints: [j1]\n    interface_name: position\n")
+    findings = [f for f in _lint(tmp_path, str(other)) if "params_file" in f.where]
+    assert [(f.level, f.message.split(";")[0]) for f in findings] == [
+        ("error", f"{other} has no section for controller '{FWD}'")]
+
+
+def test_lint_reports_a_value_of_the_wrong_type(tmp_path: Path) -> None:
+    (finding,) = [f for f in _lint(tmp_path, 7) if "params_file" in f.where]
+    assert finding.level == "error" and "string or a list of strings" in finding.message
+
+
+def test_lint_matches_the_file_to_a_namespaced_manager(tmp_path: Path) -> None:
+    """A namespaced manager's controller is matched by its fully qualified name, as at load."""
+    path = tmp_path / "ns.yaml"
+    path.write_text(f"/arm_a/{FWD}:\n  ros__parameters:\n    joints: [arm_a_j1]\n    interface_name: position\n")
+    assert _lint(tmp_path, str(path), "/arm_a/controller_manager") == []
+    assert [f.level for f in _lint(tmp_path, str(path), "/arm_b/controller_manager")
+            if "params_file" in f.where] == ["error"]
