@@ -54,8 +54,10 @@ def test_cleanup_of_an_unconfigured_controller_is_ok_and_changes_nothing() -> No
     assert _call(cm, "cleanup_controller", CTRL)
     assert cm.controllers[CTRL].state is State.UNCONFIGURED
     assert list(cm.controllers) == [CTRL]
+    published = len(cm.bus.history("/controller_manager/activity"))
     cm.cleanup_controller(CTRL)  # the method as well: no error
     assert cm.controllers[CTRL].state is State.UNCONFIGURED
+    assert len(cm.bus.history("/controller_manager/activity")) == published, "nothing changed: no ~/activity"
 
 
 def test_cleanup_of_an_active_controller_fails_and_it_stays_active() -> None:
