@@ -27,6 +27,7 @@ __all__ = [
     "CourseError",
     "GradingError",
     "JointLimitsError",
+    "ArgumentError",
 ]
 
 
@@ -292,3 +293,27 @@ class JointLimitsError(HardwareError):
             f"joint '{joint}': its position {position:.6g} is out of its limits [{limits[0]:.6g}, {limits[1]:.6g}]; "
             "a hardware failure, or joint limits in the description narrower than the joint's real ones"
         )
+
+
+class ArgumentError(RRBotWorkshopError, ValueError, TypeError):
+    """An argument of a library call is of the wrong type or out of range (Python code, not a ROS file, is at fault).
+
+    It is a :class:`ValueError` and a :class:`TypeError` too, so code that catches Python's own errors for a bad
+    argument still catches it.
+
+    Attributes:
+        function: The call (``"System.spin"``).
+        argument: The argument's name (``"seconds"``).
+        value: What was given.
+        valid: What would be valid, in words (``"a finite number of seconds >= 0"``).
+    """
+
+    def __init__(self, function: str, argument: str, value: object, valid: str) -> None:
+        self.function = function
+        self.argument = argument
+        self.value = value
+        self.valid = valid
+        shown = repr(value)
+        if len(shown) > 80:
+            shown = shown[:77] + "..."
+        super().__init__(f"{function}: argument '{argument}' must be {valid}, got {shown}")

@@ -7,8 +7,13 @@ Times and durations (``stamp``, ``time_from_start``) are float seconds instead o
 
 from __future__ import annotations
 
+import dataclasses
+import functools
 import math
+import numbers
+from collections.abc import Iterable
 from dataclasses import dataclass, field
+from typing import Any, cast
 
 __all__ = [
     "Header",
@@ -48,6 +53,7 @@ __all__ = [
     "SetBoolRequest",
     "SetBoolResponse",
     "ros_type_name",
+    "message_problem",
 ]
 
 
@@ -408,3 +414,66 @@ class SetBoolResponse:
 
     success: bool = False
     message: str = ""
+
+
+# --------------------------------------------------------------------------- field types, as rclpy checks them
+_SCALARS: dict[str, tuple[tuple[type, ...], str]] = {
+    "float": ((numbers.Real,), "a number"),
+    "int": ((numbers.Integral,), "a whole number"),
+    "bool": ((bool, numbers.Integral), "a bool"),
+    "str": ((str,), "a string"),
+}
+
+
+@functools.cache
+def _field_types(msg_type: type) -> tuple[tuple[str, str], ...]:
+    """``(field, annotation text)`` of a message dataclass (annotations are strings under postponed evaluation)."""
+    return tuple((f.name, str(f.type)) for f in dataclasses.fields(msg_type))
+
+
+def _value_problem(value: Any, kind: str, path: str) -> str | None:
+    scalar = _SCALARS.get(kind)
+    if scalar is not None:
+        types, what = scalar
+        if not isinstance(value, types) or (kind == "float" and isinstance(value, complex)):
+            return f"field '{path}' must be {what}, got {type(value).__name__} {_short(value)}"
+        return None
+    nested = globals().get(kind)
+    if isinstance(nested, type) and dataclasses.is_dataclass(nested):
+        if not isinstance(value, nested):
+            return f"field '{path}' must be a {kind} message, got {type(value).__name__} {_short(value)}"
+        return message_problem(value, path)
+    return None
+
+
+def _short(value: Any) -> str:
+    text = repr(value)
+    return text if len(text) <= 60 else text[:57] + "..."
+
+
+def message_problem(msg: Any, path: str = "") -> str | None:
+    """What makes ``msg`` a message rclpy would refuse to build, or None: a field of the wrong type (None, a string
+    for a number, a number for a list, a list holding a wrong item), named by its path (``points[0].positions``).
+
+    ROS checks field types when a message is built or published; here messages are plain dataclasses, so the bus
+    checks them when they are published from outside a node. Numbers may be ints or floats (numpy's too), and lists
+    may be tuples or numpy arrays.
+    """
+    if not dataclasses.is_dataclass(msg) or isinstance(msg, type):
+        return None
+    for name, annotation in _field_types(type(msg)):
+        value: Any = getattr(msg, name, None)
+        where = f"{path}.{name}" if path else name
+        if annotation.startswith("list[") and annotation.endswith("]"):
+            kind = annotation[5:-1]
+            if isinstance(value, (str, bytes, dict)) or not hasattr(value, "__len__") or not hasattr(value, "__iter__"):
+                return f"field '{where}' must be a list, got {type(value).__name__} {_short(value)}"
+            for index, item in enumerate(cast(Iterable[Any], value)):
+                problem = _value_problem(item, kind, f"{where}[{index}]")
+                if problem:
+                    return problem
+        else:
+            problem = _value_problem(value, annotation, where)
+            if problem:
+                return problem
+    return None

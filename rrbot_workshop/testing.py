@@ -8,6 +8,7 @@ it checks anything: a test that passes on a controller that does nothing checks 
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping, Sequence
 from typing import Any
 
@@ -16,7 +17,7 @@ from rrbot_workshop.controller_interface.base import (
     ControllerInterface,
     InterfaceConfigurationType,
 )
-from rrbot_workshop.exceptions import ControllerError, InterfaceNotFound
+from rrbot_workshop.exceptions import ArgumentError, ControllerError, InterfaceNotFound
 from rrbot_workshop.hardware_interface.handles import (
     CommandInterface,
     Handle,
@@ -24,6 +25,7 @@ from rrbot_workshop.hardware_interface.handles import (
     LoanedStateInterface,
     StateInterface,
 )
+from rrbot_workshop.middleware.arguments import mapping, name_list, whole_number
 from rrbot_workshop.middleware.lifecycle import CallbackReturn, ReturnType, State
 from rrbot_workshop.middleware.topics import TopicBus
 
@@ -42,6 +44,11 @@ class ControllerHarness:
         update_rate: Controller manager rate in [Hz]; the period is ``1/update_rate``.
         robot_description: URDF text handed to the controller.
 
+    Raises:
+        ArgumentError: If an argument is of the wrong type: not a controller instance, an empty name, values that
+            are not a mapping of ``'<prefix>/<interface>'`` to numbers, an update rate that is not a positive number.
+        ControllerError: If the controller's ``on_init`` fails.
+
     Example:
         >>> h = ControllerHarness(ForwardCommandController(), "fwd", {"joints": ["j1"], "interface_name": "position"},
         ...                       state_values={}, command_values={"j1/position": 0.0})
@@ -58,6 +65,7 @@ class ControllerHarness:
         update_rate: int = 100,
         robot_description: str = "",
     ) -> None:
+        _check_arguments(controller, name, parameters, state_values, command_values, update_rate, robot_description)
         self.controller = controller
         self.name = name
         self.bus = TopicBus()
@@ -138,7 +146,12 @@ class ControllerHarness:
         self.bus.deliver()
 
     def update(self, cycles: int = 1) -> ReturnType:
-        """Advance the clock by one period and call ``update`` (``cycles`` times); stop at a non-OK result."""
+        """Advance the clock by one period and call ``update`` (``cycles`` times); stop at a non-OK result.
+
+        Raises:
+            ArgumentError: If ``cycles`` is not a whole number >= 0.
+        """
+        whole_number("ControllerHarness.update", "cycles", cycles)
         result = ReturnType.OK
         for _ in range(cycles):
             self.bus.deliver()
@@ -158,11 +171,23 @@ class ControllerHarness:
         raise InterfaceNotFound(name, [*self.commands, *self.states])
 
     def set(self, name: str, value: Any) -> None:
-        """Set a state (or command) interface value, as hardware would."""
+        """Set a state (or command) interface value, as hardware would.
+
+        Raises:
+            InterfaceNotFound: If the harness owns no interface called ``name``.
+        """
+        if name not in self.states and name not in self.commands:
+            raise InterfaceNotFound(name, [*self.commands, *self.states])
         (self.states if name in self.states else self.commands)[name].set_value(value)
 
     def values(self, names: Sequence[str]) -> list[Any]:
-        """Values of several interfaces."""
+        """Values of several interfaces.
+
+        Raises:
+            ArgumentError: If ``names`` is not a list of names.
+            InterfaceNotFound: If one is not an interface the harness owns.
+        """
+        names = name_list("ControllerHarness.values", "names", names, single=False)
         return [self.value(n) for n in names]
 
     def latest(self, topic: str) -> Any:
@@ -170,6 +195,32 @@ class ControllerHarness:
         if topic.startswith("~"):
             topic = f"/{self.name}{topic[1:]}"
         return self.bus.latest(topic)
+
+
+def _check_arguments(controller: Any, name: Any, parameters: Any, state_values: Any, command_values: Any,
+                     update_rate: Any, robot_description: Any) -> None:
+    """Refuse :class:`ControllerHarness` arguments of the wrong type, naming the argument.
+
+    Raises:
+        ArgumentError: If an argument is of the wrong type or out of range.
+    """
+    function = "ControllerHarness"
+    if not isinstance(controller, ControllerInterface):
+        raise ArgumentError(function, "controller", controller, "a controller instance (e.g. ForwardCommandController())")
+    if not isinstance(name, str) or not name:
+        raise ArgumentError(function, "name", name, "the controller's name (a non-empty string)")
+    mapping(function, "parameters", parameters, "a mapping of parameter names to values")
+    for argument, values in (("state_values", state_values), ("command_values", command_values)):
+        for key, value in mapping(function, argument, values, "a mapping of '<prefix>/<interface>' to values").items():
+            if not isinstance(key, str) or "/" not in key:
+                raise ArgumentError(function, f"{argument}[{key!r}]", key, "a full interface name '<prefix>/<interface>'")
+            if value is not None and (isinstance(value, bool) or not isinstance(value, int | float)):
+                raise ArgumentError(function, f"{argument}[{key!r}]", value, "a number (the interface's initial value)")
+    if isinstance(update_rate, bool) or not isinstance(update_rate, int | float) or not update_rate > 0 \
+            or not math.isfinite(update_rate):
+        raise ArgumentError(function, "update_rate", update_rate, "a positive number of [Hz]")
+    if not isinstance(robot_description, str):
+        raise ArgumentError(function, "robot_description", robot_description, "URDF text (a string)")
 
 
 class NullController(ControllerInterface):

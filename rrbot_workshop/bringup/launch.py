@@ -23,9 +23,10 @@ from rrbot_workshop.bringup.inputs import controllers_config, description_to_urd
 from rrbot_workshop.bringup.system import System, namespaced, register, shared_graph, unique_name
 from rrbot_workshop.controller_manager.manager import ControllerManager
 from rrbot_workshop.description.packages import use_package_path
-from rrbot_workshop.exceptions import ControllerNotFound, ParameterError
+from rrbot_workshop.exceptions import ArgumentError, ControllerNotFound, ParameterError
 from rrbot_workshop.hardware_interface.resource_loading import mock_hardware_infos
 from rrbot_workshop.hardware_interface.resource_manager import ResourceManager
+from rrbot_workshop.middleware.arguments import mapping, name_list
 from rrbot_workshop.middleware.clock import Clock, make_clock
 from rrbot_workshop.middleware.controllers_yaml import ControllersConfig
 from rrbot_workshop.middleware.lifecycle import State
@@ -93,9 +94,11 @@ def bringup(
         ControllerNotFound: If a controller in ``spawn``/``inactive`` is not declared in the YAML.
         ControllerError: If a controller fails to load, configure or activate.
         SwitchError: If activating ``spawn`` is rejected.
+        ArgumentError: If an argument is of the wrong type (``spawn=3``, ``xacro_args=[...]``, ``name=""``, ...).
     """
     from rrbot_workshop.description import parse_ros2_control
 
+    _check_arguments(description, xacro_args, hardware_initial_state, name, package_path, controller_types)
     for label, given in (("launch_args", launch_args), ("controller_types", controller_types)):
         if given is not None and not isinstance(given, Mapping):
             raise ParameterError("bringup", label, f"must be a mapping of names to values, got {given!r}")
@@ -108,7 +111,8 @@ def bringup(
     for component, original in mocked.items():
         _log.info("hardware component '%s': plugin '%s' replaced by its mock '%s' (mock_hardware=%r)", component,
                   original or "(none)", next(i.hardware_plugin_name for i in infos if i.name == component), mock_hardware)
-    spawn, inactive = list(spawn), list(inactive)
+    spawn = name_list("bringup", "spawn", spawn) if spawn != () else []
+    inactive = name_list("bringup", "inactive", inactive) if inactive != () else []
     both = sorted(set(spawn) & set(inactive))
     if both:
         raise ParameterError("bringup", "spawn/inactive", f"{both} appear in both lists; choose one")
@@ -140,3 +144,35 @@ def bringup(
     register(system)
     _log.info("brought up '%s': hardware %s, active %s", name, rm.component_names(), spawn)
     return system
+
+
+def _check_arguments(description: Any, xacro_args: Any, hardware_initial_state: Any, name: Any, package_path: Any,
+                     controller_types: Any) -> None:
+    """Refuse arguments of :func:`bringup` of the wrong type before anything is read or built.
+
+    Raises:
+        ArgumentError: Naming the argument and what it takes.
+    """
+    if not isinstance(description, str | Path):
+        raise ArgumentError("bringup", "description", description,
+                            "a .xacro/.urdf path, URDF text or a package name under descriptions/")
+    mapping("bringup", "xacro_args", xacro_args, "a mapping of xacro argument names to values")
+    states = mapping("bringup", "hardware_initial_state", hardware_initial_state,
+                     "a mapping of component names to 'unconfigured', 'inactive' or 'active'")
+    for component, state in states.items():
+        if not isinstance(state, str | State):
+            raise ArgumentError("bringup", f"hardware_initial_state[{component!r}]", state,
+                                "'unconfigured', 'inactive' or 'active'")
+    if name is not None and (not isinstance(name, str) or not name.strip()):
+        raise ArgumentError("bringup", "name", name, "None or a non-empty string")
+    if package_path is not None and not isinstance(package_path, str | Path):
+        if isinstance(package_path, bytes | Mapping) or not isinstance(package_path, Iterable):
+            raise ArgumentError("bringup", "package_path", package_path, "a folder or a list of folders")
+        for index, folder in enumerate(package_path if isinstance(package_path, list | tuple) else ()):
+            if not isinstance(folder, str | Path):
+                raise ArgumentError("bringup", f"package_path[{index}]", folder, "a folder (a str or Path)")
+    if isinstance(controller_types, Mapping):
+        for key, value in controller_types.items():
+            if not isinstance(key, str) or not isinstance(value, str) or not value:
+                raise ArgumentError("bringup", f"controller_types[{key!r}]", value,
+                                    "a controller type name such as 'joint_trajectory_controller/JointTrajectoryController'")

@@ -19,10 +19,11 @@ from __future__ import annotations
 
 import asyncio
 import logging
+import math
 import time as _wall
 from typing import Any
 
-from rrbot_workshop.exceptions import HardwareError
+from rrbot_workshop.exceptions import ArgumentError, HardwareError
 
 __all__ = ["BackgroundSpinner"]
 
@@ -46,19 +47,7 @@ class BackgroundSpinner:
 
     def __init__(self, system: Any, real_time_factor: float = 1.0, tick: float = 0.02,
                  max_cycles_per_tick: int | None = None) -> None:
-        from rrbot_workshop.middleware.clock import WallClock
-
-        if not real_time_factor > 0 or not tick > 0:
-            raise HardwareError(f"spin_in_background: real_time_factor ({real_time_factor}) and tick ({tick}) must be "
-                                "positive")
-        if isinstance(system.clock, WallClock):
-            raise HardwareError(f"system '{system.name}' runs on a wall clock, which paces itself and would block the "
-                                "kernel; bring it up with the default simulated clock to spin it in the background")
-        try:
-            loop = asyncio.get_running_loop()
-        except RuntimeError:
-            raise HardwareError("spin_in_background needs a running event loop (a Jupyter kernel, or asyncio.run in a "
-                                "script); without one call system.spin(seconds)") from None
+        loop = self.check_arguments(system, real_time_factor, tick)
         self.system = system
         self.real_time_factor = float(real_time_factor)
         self.tick = float(tick)
@@ -69,6 +58,31 @@ class BackgroundSpinner:
         self.error: BaseException | None = None
         self._stopped = False
         self._task = loop.create_task(self._run(), name=f"spin {system.name}")
+
+    @staticmethod
+    def check_arguments(system: Any, real_time_factor: Any, tick: Any) -> asyncio.AbstractEventLoop:
+        """Refuse what :class:`BackgroundSpinner` would refuse, before anything changes; return the running loop.
+
+        Raises:
+            ArgumentError: If a factor or tick is not a number.
+            HardwareError: If it is not positive and finite, the clock is a wall clock, or no event loop runs.
+        """
+        from rrbot_workshop.middleware.clock import WallClock
+
+        for argument, value in (("real_time_factor", real_time_factor), ("tick", tick)):
+            if isinstance(value, bool) or not isinstance(value, (int, float)):
+                raise ArgumentError("spin_in_background", argument, value, "a positive number")
+        if not real_time_factor > 0 or not tick > 0 or math.isinf(real_time_factor) or math.isinf(tick):
+            raise HardwareError(f"spin_in_background: real_time_factor ({real_time_factor}) and tick ({tick}) must be "
+                                "positive and finite")
+        if isinstance(system.clock, WallClock):
+            raise HardwareError(f"system '{system.name}' runs on a wall clock, which paces itself and would block the "
+                                "kernel; bring it up with the default simulated clock to spin it in the background")
+        try:
+            return asyncio.get_running_loop()
+        except RuntimeError:
+            raise HardwareError("spin_in_background needs a running event loop (a Jupyter kernel, or asyncio.run in a "
+                                "script); without one call system.spin(seconds)") from None
 
     @property
     def running(self) -> bool:

@@ -14,6 +14,7 @@ import logging
 import re
 import shlex
 from collections.abc import Iterable, Mapping
+from fractions import Fraction
 from pathlib import Path
 from types import TracebackType
 from typing import Any
@@ -22,6 +23,7 @@ from rrbot_workshop.controller_manager.manager import ControllerManager
 from rrbot_workshop.controller_manager.node_loop import run_cycles
 from rrbot_workshop.description.info import HardwareInfo
 from rrbot_workshop.exceptions import HardwareError, ParameterError
+from rrbot_workshop.middleware.arguments import callable_argument, name_list, number, whole_number
 from rrbot_workshop.middleware.clock import Clock, WallClock
 from rrbot_workshop.middleware.controllers_yaml import (
     MANAGER_NODE,
@@ -32,9 +34,13 @@ from rrbot_workshop.middleware.controllers_yaml import (
 from rrbot_workshop.middleware.lifecycle import State
 from rrbot_workshop.middleware.topics import TopicBus
 
-__all__ = ["System", "current_system", "get_system", "systems", "register", "unique_name", "namespaced", "shared_graph"]
+__all__ = ["MAX_SPIN_CYCLES", "System", "current_system", "get_system", "systems", "register", "unique_name", "namespaced", "shared_graph"]
 
 _log = logging.getLogger(__name__)
+
+#: The most control cycles one ``spin``, ``spin_cycles`` or ``spin_until`` call may run: the work of one call stays
+#: bounded (10,000 s of simulated time at 100 Hz); spin in a loop for longer runs.
+MAX_SPIN_CYCLES = 1_000_000
 
 _SYSTEMS: dict[str, System] = {}
 _CURRENT: list[str] = []
@@ -162,19 +168,25 @@ class System:
         if not self._running:
             raise HardwareError(f"system '{self.name}' is shut down; bring up a new one")
 
-    def spin_cycles(self, n: int) -> float:
-        """Run ``n`` control cycles; returns the time after the last one in [s].
+    def spin_cycles(self, n: int, since: Fraction | None = None) -> float:
+        """Run ``n`` control cycles; returns the time after the last one in [s] (plus ``since``, the time run after
+        it, as :meth:`~rrbot_workshop.middleware.clock.Clock.plan` gives it; None keeps the time already run since the
+        last cycle when ``n`` is 0, and none is left after a cycle).
 
         The cycles run as :func:`~rrbot_workshop.controller_manager.node_loop.run_cycles` runs them: with Python's
         garbage collector paused until the batch ends.
 
         Raises:
             HardwareError: If the system is shut down.
+            ArgumentError: If ``n`` is not a whole number from 0 to :data:`MAX_SPIN_CYCLES`.
         """
         self._check_running()
+        n = whole_number("System.spin_cycles", "n", n, high=MAX_SPIN_CYCLES)
         if isinstance(self.clock, WallClock):
             self.clock.reset_pacing()
-        run_cycles(self.controller_manager.update, self.clock.tick, self.clock.period, int(n))
+        run_cycles(self.controller_manager.update, self.clock.tick, self.clock.period, n)
+        if since is not None:
+            self.clock.advance(since)
         for listener in list(self._spin_listeners):
             try:
                 listener(self)
@@ -184,7 +196,12 @@ class System:
 
     def add_spin_listener(self, fn: Any) -> Any:
         """Call ``fn(system)`` after every :meth:`spin_cycles` (each ``spin``, each batch of a background loop):
-        panels redraw there, not in every cycle. Returns a remover."""
+        panels redraw there, not in every cycle. Returns a remover.
+
+        Raises:
+            ArgumentError: If ``fn`` cannot be called.
+        """
+        callable_argument("System.add_spin_listener", "listener", fn, "a function taking the system")
         self._spin_listeners.append(fn)
 
         def remove() -> None:
@@ -206,6 +223,7 @@ class System:
         from rrbot_workshop.bringup.spinner import BackgroundSpinner
 
         self._check_running()
+        BackgroundSpinner.check_arguments(self, real_time_factor, tick)  # a refused request leaves the running loop
         self.stop_background()
         self._background = BackgroundSpinner(self, real_time_factor, tick)
         return self._background
@@ -221,17 +239,40 @@ class System:
             self._background.stop()
             self._background = None
 
+    def _cycles(self, function: str, argument: str, seconds: Any) -> int:
+        """Whole cycles in ``seconds`` [s], refused unless a finite number >= 0 of at most :data:`MAX_SPIN_CYCLES`."""
+        seconds = number(function, argument, seconds, low=0.0, high=MAX_SPIN_CYCLES * self.clock.period)
+        return self.clock.cycles_for(seconds)
+
     def spin(self, seconds: float) -> float:
-        """Run for ``seconds`` [s] of (simulated) time, rounded to whole cycles; returns the time in [s]."""
-        return self.spin_cycles(self.clock.cycles_for(seconds))
+        """Run for ``seconds`` [s] of (simulated) time; returns the time in [s].
+
+        Time advances by exactly ``seconds`` (read as a fraction: ``1/30`` is one thirtieth), and every cycle whose
+        time falls within them runs, at the manager's rate (each controller at its own). Time between cycles carries
+        over to the next call: ``spin(1/30)`` six times on a 10 Hz loop runs the same two cycles as ``spin(0.2)``.
+
+        Raises:
+            HardwareError: If the system is shut down.
+            ArgumentError: If ``seconds`` is not a finite number >= 0, or needs more than :data:`MAX_SPIN_CYCLES`
+                cycles (spin in a loop for longer runs).
+        """
+        self._check_running()
+        seconds = number("System.spin", "seconds", seconds, low=0.0, high=(MAX_SPIN_CYCLES - 1) * self.clock.period)
+        cycles, since = self.clock.plan(seconds)
+        return self.spin_cycles(cycles, since=since)
 
     def spin_until(self, predicate: Any, timeout: float) -> bool:
         """Run cycle by cycle until ``predicate()`` is true or ``timeout`` [s] of simulated time passes.
 
         Returns:
             Whether the predicate became true.
+
+        Raises:
+            ArgumentError: If ``predicate`` cannot be called, or ``timeout`` is not a finite number >= 0 of at most
+                :data:`MAX_SPIN_CYCLES` cycles.
         """
-        for _ in range(self.clock.cycles_for(timeout)):
+        callable_argument("System.spin_until", "predicate", predicate, "a function taking no argument")
+        for _ in range(self._cycles("System.spin_until", "timeout", timeout)):
             if predicate():
                 return True
             self.spin_cycles(1)
@@ -291,9 +332,10 @@ class System:
             ControllerError: If loading or configuring fails (the spawner's exit code 1).
             SwitchError: If an activation is rejected; controllers spawned before it stay as they are,
                 as with separate spawner calls.
+            ArgumentError: If ``controllers`` is not a name or a list of names.
         """
         self._check_running()
-        names = list(controllers)
+        names = name_list("System.spawn", "controllers", controllers)
         if inactive and activate_as_group:
             raise ParameterError("spawn", "inactive/activate_as_group", "choose one: they contradict each other")
         cm = self.controller_manager
@@ -328,9 +370,10 @@ class System:
         Raises:
             ControllerNotFound: If a name is not loaded.
             SwitchError: If the deactivation is rejected (nothing is unloaded then).
+            ArgumentError: If ``controllers`` is not a name or a list of names.
         """
         self._check_running()
-        names = list(controllers)
+        names = name_list("System.unspawn", "controllers", controllers)
         cm = self.controller_manager
         for name in names:
             cm.get_controller(name)  # raises ControllerNotFound with the loaded names

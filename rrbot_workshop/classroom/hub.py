@@ -18,7 +18,7 @@ from typing import Any
 
 from rrbot_workshop.exceptions import CourseError
 
-__all__ = ["HubAPI", "ServerState", "server_state", "warm_room"]
+__all__ = ["HubAPI", "ServerState", "server_state", "warm_room", "json_request"]
 
 
 @dataclass(frozen=True)
@@ -69,18 +69,8 @@ class HubAPI:
     def request(self, method: str, path: str, body: Any = None, token: str | None = None) -> tuple[int, Any]:
         """One request to ``<api>/<path>``; ``(HTTP status, JSON answer or None)``, status 0 if the hub is not
         reached."""
-        data = None if body is None else json.dumps(body).encode()
-        request = urllib.request.Request(f"{self.api}/{path.lstrip('/')}", data=data, method=method, headers={
-            "Authorization": f"token {token or self.token}", "Content-Type": "application/json",
-            "Accept": "application/json"})
-        try:
-            with urllib.request.urlopen(request, timeout=self.timeout) as response:
-                text = response.read()
-                return response.status, json.loads(text) if text else None
-        except urllib.error.HTTPError as exc:
-            return exc.code, None
-        except (OSError, ValueError):
-            return 0, None
+        return json_request(f"{self.api}/{path.lstrip('/')}", method, body, token or self.token, self.timeout)
+
 
     def users(self) -> list[dict[str, Any]]:
         """Every user, with their servers (all pages of the hub's list).
@@ -130,6 +120,23 @@ class HubAPI:
             if time.monotonic() >= deadline:
                 return False
             time.sleep(poll)
+
+
+
+def json_request(url: str, method: str, body: Any, token: str, timeout: float) -> tuple[int, Any]:
+    """One JSON request with a hub token to ``url``; ``(HTTP status, JSON answer or None)``, status 0 if it is not
+    reached (or the answer is not JSON)."""
+    data = None if body is None else json.dumps(body).encode()
+    request = urllib.request.Request(url, data=data, method=method, headers={
+        "Authorization": f"token {token}", "Content-Type": "application/json", "Accept": "application/json"})
+    try:
+        with urllib.request.urlopen(request, timeout=timeout) as response:
+            text = response.read()
+            return response.status, json.loads(text) if text else None
+    except urllib.error.HTTPError as exc:
+        return exc.code, None
+    except (OSError, ValueError):
+        return 0, None
 
 
 def _why(status: int, what: str, scope: str) -> str:

@@ -39,7 +39,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from rrbot_workshop.classroom.hub import HubAPI
+from rrbot_workshop.classroom.hub import HubAPI, json_request
 
 __all__ = ["Room", "LearnerRun", "free_port", "run_cells", "portable_python", "SERVICE"]
 
@@ -277,18 +277,7 @@ c.JupyterHub.cleanup_servers = True
     def api(self, method: str, path: str, body: Any = None, token: str | None = None) -> tuple[int, Any]:
         """A request through the hub's proxy (``/hub/...``, ``/user/...``, ``/services/...``); ``(status, JSON or
         None)``."""
-        data = None if body is None else json.dumps(body).encode()
-        request = urllib.request.Request(self.url + path, data=data, method=method,
-                                         headers={"Authorization": f"token {token or self.token}",
-                                                  "Content-Type": "application/json"})
-        try:
-            with urllib.request.urlopen(request, timeout=30) as response:
-                text = response.read()
-                return response.status, json.loads(text) if text else None
-        except urllib.error.HTTPError as exc:
-            return exc.code, None
-        except (OSError, ValueError):
-            return 0, None
+        return json_request(self.url + path, method, body, token or self.token, 30.0)
 
     def _wait(self, ready: Any, what: str) -> None:
         deadline = time.monotonic() + self.timeout

@@ -27,7 +27,7 @@ import sys
 from dataclasses import dataclass, replace
 from typing import Any
 
-from rrbot_workshop.exceptions import ParameterError
+from rrbot_workshop.exceptions import ArgumentError, ParameterError
 
 __all__ = ["ANTIWINDUP_STRATEGIES", "Gains", "Pid"]
 
@@ -274,9 +274,17 @@ class Pid:
             The (clamped) command; the previous command if ``dt == 0``; NaN if an input is not finite.
 
         Raises:
-            ValueError: If ``dt`` is negative.
-            TypeError: If neither one nor two values follow ``error``.
+            ArgumentError: If ``dt`` is negative (Jazzy throws ``std::invalid_argument``), an argument is not a
+                number, or neither one nor two values follow ``error`` (a :class:`ValueError` and a
+                :class:`TypeError`).
         """
+        if len(args) not in (1, 2):
+            raise ArgumentError("Pid.compute_command", "arguments", (error, *args),
+                                "(error, dt) or (error, error_dot, dt)")
+        for argument, value in zip(("error", *(("dt",) if len(args) == 1 else ("error_dot", "dt"))), (error, *args),
+                                   strict=True):
+            if isinstance(value, bool) or not isinstance(value, numbers.Real):
+                raise ArgumentError("Pid.compute_command", argument, value, "a number")
         if len(args) == 1:
             dt = args[0]
             self._check_dt(dt)
@@ -294,14 +302,12 @@ class Pid:
             if _is_zero(dt):
                 return self._cmd
             return self._step(error, error_dot, dt)
-        raise TypeError(
-            f"compute_command takes (error, dt) or (error, error_dot, dt), got {1 + len(args)} arguments"
-        )
+        raise AssertionError("unreachable: the argument count is checked first")
 
     @staticmethod
     def _check_dt(dt: float) -> None:
         if dt < 0.0:
-            raise ValueError(f"Pid.compute_command: dt must not be negative, got dt={dt} [s]")
+            raise ArgumentError("Pid.compute_command", "dt", dt, "a time step >= 0 [s]")
 
     def _step(self, error: float, error_dot: float, dt: float) -> float:
         g = self._gains

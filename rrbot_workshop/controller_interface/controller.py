@@ -14,6 +14,8 @@ from __future__ import annotations
 import enum
 import functools
 import logging
+import re
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any, ClassVar
 
@@ -73,8 +75,28 @@ class ControllerNode(Node):
         """Set parameters by dotted name (like ``ros2 param set``); read at the next configure.
 
         A controller that re-reads its parameters while it runs (``pid_controller``, as in Jazzy) also sees them at its
-        next update.
+        next update. A value of the wrong type is refused at the next configure, naming the parameter (its
+        declaration checks it); a refused call sets none of its values.
+
+        Raises:
+            ParameterError: If ``values`` is not a mapping, a name is not a dotted parameter name, or a name goes
+                through a parameter that is not a group of parameters.
         """
+        owner = self.get_name()
+        if not isinstance(values, Mapping):
+            raise ParameterError(owner, "values", f"set_parameters takes a mapping of parameter names to values, got "
+                                 f"{values!r}")
+        for name in values:
+            if not isinstance(name, str) or not _PARAMETER_NAME.match(name):
+                raise ParameterError(owner, str(name), "is not a parameter name: dotted parts of letters, digits and "
+                                     "underscores (e.g. 'gains.joint1.p')")
+            node: Any = self.parameters
+            parts = name.split(".")
+            for depth, part in enumerate(parts[:-1]):
+                node = node.get(part, {}) if isinstance(node, dict) else None
+                if not isinstance(node, dict):
+                    raise ParameterError(owner, name, f"'{'.'.join(parts[:depth + 1])}' is a value, not a group of "
+                                         "parameters")
         for name, value in values.items():
             node = self.parameters
             parts = name.split(".")
@@ -82,6 +104,9 @@ class ControllerNode(Node):
                 node = node.setdefault(part, {})
             node[parts[-1]] = value
         self.parameters_revision += 1
+
+
+_PARAMETER_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*(\.[A-Za-z0-9_]+)*$")
 
 
 _BASE_SCHEMA = ParameterSchema(

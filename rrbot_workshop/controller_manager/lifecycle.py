@@ -15,6 +15,7 @@ from typing import Any
 
 from rrbot_workshop.controller_manager.activity import ActivitySink
 from rrbot_workshop.controller_manager.chains import ChainGraph
+from rrbot_workshop.controller_manager.claims import InterfaceClaims
 from rrbot_workshop.controller_manager.spec import ControllerSpec
 from rrbot_workshop.controller_manager.switch import SwitchCall
 from rrbot_workshop.exceptions import ControllerError, ControllerNotFound, LifecycleError, PluginNotFound
@@ -97,7 +98,8 @@ class ControllerLifecycle:
 
         Raises:
             ControllerNotFound: If it is not loaded.
-            ControllerError: If it is active or finalized, ``on_configure`` fails, or its exports are invalid.
+            ControllerError: If it is active or finalized, ``on_configure`` fails, its exports are invalid, or it lists
+                an interface twice.
             ParameterError: If its parameters fail validation.
         """
         spec = self.spec(name)
@@ -110,11 +112,18 @@ class ControllerLifecycle:
     def cleanup(self, name: str) -> None:
         """inactive -> unconfigured; its exported interfaces are removed and the update order worked out again.
 
+        An unconfigured controller has nothing to clean up: the request succeeds and changes nothing, as in Jazzy
+        (``test_controller_manager_srvs.cpp``, ``cleanup_controller_srv``, variation 2).
+
         Raises:
             ControllerNotFound: If it is not loaded.
-            ControllerError: If it is not inactive.
+            ControllerError: If it is active or finalized.
         """
-        self._cleanup(self.spec(name))
+        spec = self.spec(name)
+        if spec.state is State.UNCONFIGURED:
+            _log.debug("controller '%s' is unconfigured: nothing to clean up", name)
+            return
+        self._cleanup(spec)
         self._chains.rebuild()
 
     def unload(self, name: str) -> None:
@@ -194,8 +203,9 @@ class ControllerLifecycle:
         """unconfigured -> inactive; a chainable controller's exports are stored in the resource manager.
 
         Raises:
-            ControllerError: If it is not unconfigured, ``on_configure`` fails, or its exports are invalid
-                (then nothing it exported stays stored and it is unconfigured again).
+            ControllerError: If it is not unconfigured, ``on_configure`` fails, its exports are invalid, or its command
+                or state interface configuration lists an interface twice (then nothing it exported stays stored
+                and it is unconfigured again).
             ParameterError: If its parameters fail validation.
         """
         rm = self._rm
@@ -229,6 +239,17 @@ class ControllerLifecycle:
                 rm.remove_controller_exported_state_interfaces(name)
                 ctrl.cleanup()
                 raise
+        for kind in ("command", "state"):  # Jazzy's configure_controller (test_controller_manager_srvs.cpp,
+            names = InterfaceClaims(rm).required(spec, kind)  # configure_controller_srv): each listed once
+            twice = list(dict.fromkeys(n for n in names if names.count(n) > 1))
+            if twice:
+                rm.remove_controller_reference_interfaces(name)
+                rm.remove_controller_exported_state_interfaces(name)
+                ctrl.cleanup()
+                _log.error("the %s interfaces of controller '%s' are not unique: %s", kind, name, ", ".join(names))
+                raise ControllerError(f"controller '{name}' cannot be configured: its {kind} interfaces are not "
+                                      f"unique ({', '.join(twice)} listed more than once in {names}); list each "
+                                      f"interface once in {kind}_interface_configuration()")
         if ctrl.get_node().get_parameter("is_async", False):
             _log.info("controller '%s' asks for is_async; it runs in the manager's loop here", name)
 
@@ -241,7 +262,8 @@ class ControllerLifecycle:
         rm = self._rm
         name = spec.name
         if spec.state is not State.INACTIVE:
-            raise ControllerError(f"controller '{name}' is '{spec.state.label}'; only an inactive controller can be cleaned up")
+            raise ControllerError(f"controller '{name}' is '{spec.state.label}' and cannot be cleaned up; an inactive "
+                                  "controller can (deactivate it first), an unconfigured one has nothing to clean up")
         new = spec.controller.cleanup()
         if new is not State.INACTIVE:  # cleaned up, or unconfigured/finalized by on_error: its exports go
             rm.remove_controller_reference_interfaces(name)

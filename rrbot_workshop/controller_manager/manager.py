@@ -49,9 +49,17 @@ from rrbot_workshop.controller_manager.spec import (
     SwitchResult,
 )
 from rrbot_workshop.controller_manager.statistics import ControllerStatistics
-from rrbot_workshop.controller_manager.switch import Switcher, name_list
-from rrbot_workshop.exceptions import ControllerError, HardwareError, LifecycleError, PluginNotFound
+from rrbot_workshop.controller_manager.switch import Switcher, name_list, normalize_strictness
+from rrbot_workshop.exceptions import (
+    ArgumentError,
+    ControllerError,
+    HardwareError,
+    LifecycleError,
+    ParameterError,
+    PluginNotFound,
+)
 from rrbot_workshop.hardware_interface.resource_manager import ResourceManager
+from rrbot_workshop.middleware.arguments import callable_argument, number
 from rrbot_workshop.middleware.clock import Clock, SimClock
 from rrbot_workshop.middleware.controllers_yaml import MANAGER_NODE
 from rrbot_workshop.middleware.lifecycle import State
@@ -158,7 +166,8 @@ class ControllerManager:
 
     @default_strictness.setter
     def default_strictness(self, value: str) -> None:
-        self._switcher.default_strictness = value
+        """Raises ControllerError (naming strictness and the valid values) for an unknown strictness."""
+        self._switcher.default_strictness = normalize_strictness(value)
 
     @property
     def handle_exceptions(self) -> bool:
@@ -167,6 +176,9 @@ class ControllerManager:
 
     @handle_exceptions.setter
     def handle_exceptions(self, value: bool) -> None:
+        """Raises ArgumentError unless ``value`` is a bool (as the ROS parameter's type)."""
+        if not isinstance(value, bool):
+            raise ArgumentError("ControllerManager", "handle_exceptions", value, "True or False")
         self._loop.handle_exceptions = bool(value)
         self.resource_manager.handle_exceptions = bool(value)
 
@@ -204,6 +216,12 @@ class ControllerManager:
         the controller, if it has one, is the type, and its parameters for the controller override the YAML's. The
         manager keeps the file for the controller, as Jazzy keeps ``<name>.params_file``.
 
+        Without ``param_file``, the manager's own ``<name>.params_file`` parameter (a string or a list of strings in
+        the ``controller_manager`` section) names the files, as Jazzy's ``ControllerManager::load_controller`` reads
+        it (ros2_control's ``spawner_test_with_params_file_string_parameter``): each file's section for the
+        controller gives its parameters over the controllers YAML's, and its type if the YAML has none. They are read
+        at the first load; a reload keeps what was read.
+
         ``ros_args`` is the spawner's ``--controller-ros-args`` (``"-r ~/cmd_vel:=/cmd_vel"``, ``-p name:=value``):
         remap rules for the controller's node, and parameters that override every file.
 
@@ -215,7 +233,8 @@ class ControllerManager:
                 type is unknown (the message names ``bringup(..., controller_types=...)``) or ``on_init`` fails.
             ControllerNotFound: If no type is given and the YAML declares none for ``name``.
             ParameterError: If the parameters do not match the controller's declarations, or the parameter file or
-                the ros args cannot be read.
+                the ros args cannot be read, or ``<name>.params_file`` is not a string or list of strings, names a
+                file that cannot be read, or a file without a section for the controller.
         """
         from rrbot_workshop.middleware.names import check_node_name, parse_ros_args
 
@@ -227,6 +246,8 @@ class ControllerManager:
             if not self.params.use_param_file(name, param_file, self.launch_args):
                 _log.warning("parameter file %s has no section for '%s' (%s/%s, /**/%s, ...); it is not used",
                              param_file, name, self.namespace.rstrip("/"), name, name)
+        elif name not in self._controllers and name not in self.params.param_files:
+            self._use_manager_params_files(name)
         if overrides:
             for dotted, value in overrides.items():
                 node = self.params.param_file_parameters.setdefault(name, {})
@@ -253,6 +274,31 @@ class ControllerManager:
                 ) from exc.__cause__
             raise
 
+    def _use_manager_params_files(self, name: str) -> None:
+        """Give controller ``name`` the files of the manager's ``<name>.params_file`` (read as rcl reads a
+        ``--params-file``: no substitutions).
+
+        Raises:
+            ParameterError: If the value is not a string or list of strings, a file cannot be read, or a file has no
+                section for the controller.
+        """
+        param = f"{name}.params_file"
+        declared_type = self.params.controller_types.get(name)
+        for file in self.params.params_files_of(name):
+            try:
+                found = self.params.use_param_file(name, file)
+            except ParameterError as exc:
+                why = str(exc).split(": ", 1)[1] if exc.owner == "parameter file" else str(exc)
+                raise ParameterError("controller_manager", param, f"{file}, the params_file of controller '{name}', "
+                                     f"{why}") from exc
+            if declared_type:  # the manager's <name>.type names the plugin; the file's 'type' is only a parameter
+                self.params.controller_types[name] = declared_type
+            if not found:
+                fqn = f"{self.namespace.rstrip('/')}/{name}"
+                raise ParameterError("controller_manager", param, f"{file} has no section for controller '{name}'; "
+                                     f"give it one: '{name}:', '{fqn}:', '/**/{name}:' or '/**:', each with "
+                                     "'ros__parameters:'")
+
     @reports_activity
     def configure_controller(self, name: str) -> None:
         """Configure ``name`` (cleaning it up first if inactive); export a chainable controller's
@@ -260,18 +306,19 @@ class ControllerManager:
 
         Raises:
             ControllerNotFound: If it is not loaded.
-            ControllerError: If it is active or finalized, ``on_configure`` fails, or its exports are invalid.
+            ControllerError: If it is active or finalized, ``on_configure`` fails, its exports are invalid, or its
+                command or state interface configuration lists an interface twice (then it is unconfigured).
             ParameterError: If its parameters fail validation.
         """
         self._lifecycle.configure(name)
 
     @reports_activity
     def cleanup_controller(self, name: str) -> None:
-        """inactive -> unconfigured; its exported interfaces are removed.
+        """inactive -> unconfigured; its exported interfaces are removed. An unconfigured controller: nothing to do.
 
         Raises:
             ControllerNotFound: If it is not loaded.
-            ControllerError: If it is not inactive.
+            ControllerError: If it is active or finalized.
         """
         self._lifecycle.cleanup(name)
 
@@ -327,10 +374,14 @@ class ControllerManager:
         Raises:
             SwitchError: If the switch is rejected; its ``reasons`` name the controllers and interfaces.
             ControllerError: If ``strictness`` is not valid.
+            ArgumentError: If ``activate_asap`` is not a bool or ``timeout`` not a number.
         """
         if isinstance(activate, str) or isinstance(deactivate, str):
             raise ControllerError("activate and deactivate take lists of controller names, not a single string")
         activate, deactivate = name_list(activate, "activate"), name_list(deactivate, "deactivate")
+        if not isinstance(activate_asap, bool):
+            raise ArgumentError("switch_controllers", "activate_asap", activate_asap, "True or False")
+        number("switch_controllers", "timeout", timeout, finite=False)
         return self._switcher.switch(activate, deactivate, strictness)
 
     def explain_switch(
@@ -343,7 +394,12 @@ class ControllerManager:
 
     # ================================================================= the loop
     def add_cycle_hook(self, fn: CycleHook) -> Callable[[], None]:
-        """Call ``fn(time, period)`` after every cycle (recorders, viewers). Returns a remover."""
+        """Call ``fn(time, period)`` after every cycle (recorders, viewers). Returns a remover.
+
+        Raises:
+            ArgumentError: If ``fn`` cannot be called.
+        """
+        callable_argument("add_cycle_hook", "hook", fn, "a function taking (time, period)")
         return self._hooks.add(fn)
 
     def read(self, time: float, period: float) -> None:
@@ -432,6 +488,9 @@ class ControllerManager:
         Raises:
             HardwareError: If there is no such component or the state label is invalid.
         """
+        if not isinstance(name, str):
+            raise HardwareError(f"hardware component name must be a string, got {name!r} (valid: "
+                                f"{', '.join(self.resource_manager.component_names())})")
         try:
             target = state if isinstance(state, State) else State.from_label(state)
         except ValueError as exc:

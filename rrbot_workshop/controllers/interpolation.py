@@ -14,6 +14,8 @@ import math
 from collections.abc import Sequence
 from typing import Any
 
+from rrbot_workshop.exceptions import ArgumentError
+from rrbot_workshop.middleware.arguments import number
 from rrbot_workshop.msgs import JointTrajectoryPoint
 
 __all__ = [
@@ -80,7 +82,12 @@ def interpolate_between_points(
     Returns:
         A point with positions [rad], velocities [rad/s], accelerations [rad/s^2] and efforts, all of
         the joint count; ``time_from_start`` is ``t - t0``.
+
+    Raises:
+        ArgumentError: If a time is not a finite number, a waypoint is not a JointTrajectoryPoint, or the two
+            waypoints' positions differ in length.
     """
+    _check_points(t0, p0, t1, p1, t)
     # the linear blend gives the efforts on every segment, and the whole state outside [t0, t1] or without
     # velocities and accelerations on both waypoints
     out = LinearSegment(t0, p0, t1, p1).at(t)
@@ -232,3 +239,16 @@ def deduce_from_derivatives(
         acc2 = second.accelerations or [0.0] * dim
         second.velocities = [first.velocities[i] + (first.accelerations[i] + acc2[i]) * 0.5 * delta_t for i in range(dim)]
     second.positions = [first.positions[i] + (first.velocities[i] + second.velocities[i]) * 0.5 * delta_t for i in range(dim)]
+
+
+def _check_points(t0: Any, p0: Any, t1: Any, p1: Any, t: Any) -> None:
+    """Refuse what :func:`interpolate_between_points` cannot interpolate, naming the argument."""
+    function = "interpolate_between_points"
+    for argument, value in (("t0", t0), ("t1", t1), ("t", t)):
+        number(function, argument, value)
+    for argument, point in (("p0", p0), ("p1", p1)):
+        if not isinstance(point, JointTrajectoryPoint):
+            raise ArgumentError(function, argument, point, "a JointTrajectoryPoint")
+    if len(p0.positions) != len(p1.positions):
+        raise ArgumentError(function, "p1.positions", p1.positions,
+                            f"as many positions as p0.positions ({len(p0.positions)})")

@@ -220,6 +220,12 @@ def validate_trajectory_msg(  # noqa: C901 - one rule after the other, as upstre
     previous = 0.0
     count = len(names)
     for i, point in enumerate(trajectory.points):
+        # Not checked by ros2_controllers Jazzy either (a Duration cannot hold NaN): a time that is not a finite
+        # number >= 0 would make the sampling never reach or always pass the point.
+        if not (math.isfinite(point.time_from_start) and point.time_from_start >= 0.0):
+            return Result.INVALID_GOAL, (
+                f"point {i} has time_from_start {point.time_from_start}; it must be a finite number of seconds >= 0"
+            )
         if i > 0 and not point.time_from_start > previous:
             return Result.INVALID_GOAL, (
                 f"time_from_start must strictly increase, but point {i - 1} is at {previous} s and point {i} "

@@ -21,6 +21,7 @@ file with the same arguments is expanded again only when one of them changed.
 
 from __future__ import annotations
 
+import ast
 import errno
 import io
 import logging
@@ -144,6 +145,35 @@ def _share_directory(pkg: str) -> str:
     return str(share_directory(pkg))
 
 
+#: The largest literal exponent a ``${...}`` expression may raise to: ``10**10**10`` would compute for ever.
+MAX_XACRO_EXPONENT = 10_000
+
+
+def _compile_bounded(source: Any, filename: str, mode: str, *args: Any, **kwargs: Any) -> Any:
+    """Python's ``compile`` for xacro's ``${...}`` expressions, refusing a power whose exponent is a literal above
+    :data:`MAX_XACRO_EXPONENT` or itself a power (a tower such as ``10**10**10``), which would never finish.
+
+    Raises:
+        xacro.XacroException: Naming the expression (reported as a DescriptionError with the file).
+    """
+    if isinstance(source, str):
+        try:
+            tree = ast.parse(source.strip(), mode="eval")
+        except SyntaxError:
+            tree = None
+        for node in ast.walk(tree) if tree is not None else ():
+            if isinstance(node, ast.BinOp) and isinstance(node.op, ast.Pow):
+                exponent = node.right
+                if isinstance(exponent, ast.UnaryOp):
+                    exponent = exponent.operand
+                too_big = isinstance(exponent, ast.Constant) and isinstance(exponent.value, int | float) \
+                    and abs(exponent.value) > MAX_XACRO_EXPONENT
+                if too_big or (isinstance(exponent, ast.BinOp) and isinstance(exponent.op, ast.Pow)):
+                    raise xacro.XacroException(f"expression '{source.strip()[:80]}' raises to a power beyond "
+                                               f"{MAX_XACRO_EXPONENT} and would not finish")
+    return compile(source, filename, mode, *args, **kwargs)
+
+
 @contextmanager
 def _xacro_sandbox(recorder: xacro_cache.Recorder | None = None) -> Iterator[None]:
     """Redirect ``$(find)`` to :func:`find_package` and restore every xacro global afterwards; with a ``recorder``,
@@ -182,6 +212,7 @@ def _xacro_sandbox(recorder: xacro_cache.Recorder | None = None) -> Iterator[Non
         saved_open = vars(xacro).get("open")
         saved_glob = xacro.glob
         xacro.open = _open_regular  # type: ignore[attr-defined]  # shadows the builtin in xacro's module only
+        xacro.compile = _compile_bounded  # type: ignore[attr-defined]  # likewise: ${...} expressions
         if recorder is not None:
             xacro.glob = recorder  # type: ignore[assignment]  # xacro calls glob.glob for wildcard includes
         _RECORDER = recorder
@@ -190,6 +221,7 @@ def _xacro_sandbox(recorder: xacro_cache.Recorder | None = None) -> Iterator[Non
         finally:
             _RECORDER = None
             xacro.glob = saved_glob
+            vars(xacro).pop("compile", None)
             if saved_open is None:
                 vars(xacro).pop("open", None)
             else:

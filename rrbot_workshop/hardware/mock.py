@@ -49,11 +49,12 @@ _MODES = (POSITION, VELOCITY, ACCELERATION)
 _FLOAT_TYPES = ("double", "float32")
 
 
-def _parse_bool(text: str) -> bool:
-    """ros2_control's ``parse_bool``: ``true``/``false`` in any letter case."""
+def _parse_bool(text: str, name: str = "") -> bool:
+    """ros2_control's ``parse_bool``: ``true``/``false`` in any letter case; ``name`` is the parameter's, for the
+    message."""
     value = text.strip().lower()
     if value not in ("true", "false"):
-        raise ValueError(f"'{text}' is not a bool (valid: true, false)")
+        raise ValueError(f"{name + ' ' if name else ''}'{text}' is not a bool (valid: true, false)")
     return value == "true"
 
 
@@ -98,17 +99,23 @@ class GenericSystem(SystemInterface):
         super().on_init(info)
         params = info.hardware_parameters
         try:
-            self.mock_sensor_commands = _parse_bool(params.get("mock_sensor_commands", "false"))
-            self.mock_gpio_commands = _parse_bool(params.get("mock_gpio_commands", "false"))
-            self.disable_commands = _parse_bool(params.get("disable_commands", "false"))
-            self.calculate_dynamics = _parse_bool(params.get("calculate_dynamics", "false"))
+            self.mock_sensor_commands = _parse_bool(params.get("mock_sensor_commands", "false"), "mock_sensor_commands")
+            self.mock_gpio_commands = _parse_bool(params.get("mock_gpio_commands", "false"), "mock_gpio_commands")
+            self.disable_commands = _parse_bool(params.get("disable_commands", "false"), "disable_commands")
+            self.calculate_dynamics = _parse_bool(params.get("calculate_dynamics", "false"), "calculate_dynamics")
             #: True on a component ``bringup(..., mock_hardware=...)`` mocked (not in Jazzy): a joint
             #: given several control modes at once follows the first of position/velocity/acceleration instead of
             #: refusing, as the replaced driver may have accepted them (example 7's robot takes both).
             self.several_modes = bool(info.mocked_plugin)
             # As upstream, the custom interface is only read when an offset is given.
             if "position_state_following_offset" in params:
-                self.position_state_following_offset = float(params["position_state_following_offset"])
+                offset = params["position_state_following_offset"]
+                try:
+                    self.position_state_following_offset = float(offset)
+                except ValueError:
+                    raise ValueError(f"position_state_following_offset '{offset}' is not a number") from None
+                if not math.isfinite(self.position_state_following_offset):
+                    raise ValueError(f"position_state_following_offset '{offset}' is not a finite number")
                 self.custom_interface_with_following_offset = params.get("custom_interface_with_following_offset", "")
         except ValueError as exc:
             self.logger.error("hardware '%s': invalid <hardware><param>: %s", info.name, exc)

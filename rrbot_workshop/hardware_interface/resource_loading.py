@@ -11,6 +11,7 @@ component and calls them in :func:`cycle_order`.
 
 from __future__ import annotations
 
+import logging
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -190,6 +191,17 @@ def _known(plugin: str) -> bool:
     return True
 
 
+class _ErrorLines(logging.Handler):
+    """Keeps the error lines a component logs while it initialises: the reason its on_init failed."""
+
+    def __init__(self) -> None:
+        super().__init__(logging.ERROR)
+        self.lines: list[str] = []
+
+    def emit(self, record: logging.LogRecord) -> None:
+        self.lines.append(record.getMessage()[:300])
+
+
 def load_component(impl: Any, info: HardwareInfo, storage: InterfaceStorage, update_rate: int) -> ComponentEntry:
     """Wrap and initialise one implementation and store its handles (unavailable until configured).
 
@@ -204,11 +216,18 @@ def load_component(impl: Any, info: HardwareInfo, storage: InterfaceStorage, upd
             or clash with another component's.
     """
     component = HardwareComponent(impl)
-    state = component.initialize(info)
+    said = _ErrorLines()
+    hardware_log = logging.getLogger("rrbot_workshop.hardware")
+    hardware_log.addHandler(said)
+    try:
+        state = component.initialize(info)
+    finally:
+        hardware_log.removeHandler(said)
     if state is not State.UNCONFIGURED:
+        why = f"; it logged: {said.lines[0]}" if said.lines else ""
         raise HardwareError(
             f"hardware component '{info.name}' ({info.hardware_plugin_name or type(impl).__name__}) failed to "
-            f"initialise: on_init did not succeed (state '{state.label}')"
+            f"initialise: on_init did not succeed (state '{state.label}'){why}"
         ) from component.last_error  # what on_init raised, if it raised: the learner's own line
     states = list(component.export_state_interfaces())
     commands = list(component.export_command_interfaces())

@@ -13,7 +13,7 @@ from collections.abc import Mapping, Sequence
 from typing import Any, Generic, TypeVar
 
 from rrbot_workshop.description.info import JointLimits, SoftJointLimits
-from rrbot_workshop.exceptions import ParameterError
+from rrbot_workshop.exceptions import ArgumentError, ParameterError
 from rrbot_workshop.joint_limits.rosparam import get_joint_limits, get_soft_joint_limits
 
 __all__ = ["JointLimiterInterface"]
@@ -120,7 +120,12 @@ class JointLimiterInterface(Generic[DataT]):
 
         Raises:
             JointLimitsError: If a position is commanded while the measured position is beyond a position limit.
+            ArgumentError: If ``actual`` or ``desired`` is None.
         """
+        for argument, value in (("actual", actual), ("desired", desired)):
+            if value is None:
+                raise ArgumentError(f"{type(self).__name__}.enforce", argument, value,
+                                    "the joint's data (e.g. JointControlInterfacesData)")
         return self.on_enforce(actual, desired, dt)
 
     def reset_internals(self) -> None:

@@ -125,6 +125,8 @@ def _check_value(owner: str, joint: str, key: str, value: Any) -> bool | float:
         unit = next((u for word, u in _UNITS.items() if word in key), "")
         what = f"a number{' in ' + unit if unit else ''}"
         raise ParameterError(owner, name, f"joint '{joint}': '{key}' must be {what}, got {value!r}")
+    if math.isnan(value):
+        raise ParameterError(owner, name, f"joint '{joint}': '{key}' must be a number, got NaN")
     return float(value)
 
 
@@ -212,8 +214,11 @@ def get_joint_limits(
         nothing about the joint.
 
     Raises:
-        ParameterError: See :func:`joint_limits_parameters`.
+        ParameterError: See :func:`joint_limits_parameters`; also if ``joint_name`` is not a non-empty string.
     """
+    if not isinstance(joint_name, str) or not joint_name:
+        raise ParameterError(source or "get_joint_limits", "joint_name",
+                             f"must be a joint's name (a non-empty string), got {joint_name!r}")
     out = copy.copy(limits) if limits is not None else JointLimits()
     values = joint_limits_parameters(params, source).get(joint_name, {})
     if not any(key in values for key in HARD_LIMIT_PARAMETERS):
@@ -298,6 +303,9 @@ def load_joint_limits_yaml(path: str | Path, node: str | None = None) -> dict[st
             wrong; the message names the file.
     """
     where = str(path)
+    if not isinstance(path, str | Path) or not str(path):
+        raise ParameterError(where, "path", "the joint limits file must be a path (a str or Path), got "
+                             f"{type(path).__name__} {path!r}")
     try:
         text = Path(path).read_text(encoding="utf-8")
     except OSError as exc:

@@ -6,19 +6,42 @@ and never sleeps, so every run gives the same numbers and runs as fast as the CP
 :class:`WallClock` keeps the same simulated time stamps but sleeps so that cycles also happen in real
 time (for live demos); a cycle that starts late is an *overrun*, logged, never raised.
 
-Time is kept as an integer number of cycles and converted with ``cycles / update_rate``, so it does not
-drift by rounding however long the loop runs.
+Time is kept exactly, so it does not drift by rounding however long the loop runs: the number of cycles (a cycle
+happens at ``cycles / update_rate``), and the time run since the last cycle as a fraction (:meth:`Clock.plan`,
+:meth:`Clock.advance`). A duration given as a float is read as the simplest fraction that is that float (``1/30``
+is one thirtieth), so six runs of ``1/30`` s on a 10 Hz loop advance the clock by 0.2 s and run two cycles, as one
+run of 0.2 s does.
 """
 
 from __future__ import annotations
 
 import logging
+import math
+import numbers
 import time as _time
 from collections.abc import Callable
+from fractions import Fraction
 
-__all__ = ["Clock", "SimClock", "WallClock", "make_clock", "rate_due"]
+from rrbot_workshop.exceptions import ArgumentError
+
+__all__ = ["Clock", "SimClock", "WallClock", "make_clock", "rate_due", "exact_seconds"]
 
 _log = logging.getLogger(__name__)
+
+#: Largest denominator of the fraction a duration is read as (see :func:`exact_seconds`).
+_DENOMINATOR = 10**12
+
+
+def exact_seconds(seconds: float) -> Fraction:
+    """``seconds`` as the simplest fraction within 10^-12 of a billionth of it: ``1/30`` -> 1/30, ``0.1`` -> 1/10.
+
+    Raises:
+        ValueError: If ``seconds`` is negative or not finite.
+    """
+    if not isinstance(seconds, numbers.Real) or isinstance(seconds, bool) or not math.isfinite(seconds) or seconds < 0:
+        raise ValueError(f"cannot run for {seconds!r} s: give a finite duration of 0 s or more")
+    exact = seconds if isinstance(seconds, numbers.Rational) else float(seconds)
+    return Fraction(exact).limit_denominator(_DENOMINATOR)
 
 
 class Clock:
@@ -36,6 +59,7 @@ class Clock:
             raise ValueError(f"update_rate must be a positive integer in [Hz], got {update_rate!r}")
         self._rate = update_rate
         self._cycles = 0
+        self._since = Fraction(0)  # time run since the last cycle in [s], less than a period
 
     @property
     def update_rate(self) -> int:
@@ -53,19 +77,50 @@ class Clock:
         return self._cycles
 
     def now(self) -> float:
-        """Current time in [s]."""
-        return self._cycles / self._rate
+        """Current time in [s]: the last cycle's time plus the time run since it (see :meth:`advance`)."""
+        if not self._since:
+            return self._cycles / self._rate
+        return float(Fraction(self._cycles, self._rate) + self._since)
 
     def tick(self) -> float:
-        """Advance by one period and return the new time in [s]."""
+        """Advance to the next cycle's time, ``(cycles + 1) / update_rate``, and return it in [s]."""
         self._cycles += 1
-        return self.now()
+        self._since = Fraction(0)
+        return self._cycles / self._rate
 
     def cycles_for(self, seconds: float) -> int:
-        """Whole cycles that make up ``seconds`` [s] (rounded to the nearest cycle)."""
+        """Whole cycles that make up ``seconds`` [s] (rounded to the nearest cycle).
+
+        Raises:
+            ValueError: If ``seconds`` is negative.
+        """
         if seconds < 0:
             raise ValueError(f"cannot run for a negative duration ({seconds} s)")
         return int(round(seconds * self._rate))
+
+    def plan(self, seconds: float) -> tuple[int, Fraction]:
+        """How ``seconds`` [s] more of time would run: the cycles whose time falls within them, and the time left
+        after the last of them [s] (to give :meth:`advance` once those cycles ran). See :func:`exact_seconds`.
+
+        Raises:
+            ValueError: If ``seconds`` is negative or not finite.
+        """
+        total = self._since + exact_seconds(seconds)
+        cycles = math.floor(total * self._rate)
+        return cycles, total - Fraction(cycles, self._rate)
+
+    def advance(self, since: Fraction) -> float:
+        """Set the time run since the last cycle [s] (the second value of :meth:`plan`); return the time in [s].
+
+        Raises:
+            ValueError: If ``since`` is not within one period (0 s or more, less than ``1 / update_rate``).
+        """
+        since = Fraction(since)
+        if not 0 <= since * self._rate < 1:
+            raise ValueError(f"time since the last cycle must be within one period ({self.period} s), got "
+                             f"{float(since)} s")
+        self._since = since
+        return self.now()
 
 
 class SimClock(Clock):
@@ -120,7 +175,7 @@ def make_clock(kind: str | Clock, update_rate: int) -> Clock:
     """A clock from ``"sim"`` or ``"wall"`` (or a ready clock, returned as is).
 
     Raises:
-        ValueError: If ``kind`` is another string.
+        ArgumentError: If ``kind`` is neither ``"sim"``, ``"wall"`` nor a clock (a :class:`ValueError` too).
     """
     if isinstance(kind, Clock):
         return kind
@@ -128,7 +183,7 @@ def make_clock(kind: str | Clock, update_rate: int) -> Clock:
         return SimClock(update_rate)
     if kind == "wall":
         return WallClock(update_rate)
-    raise ValueError(f"unknown clock '{kind}' (valid: 'sim', 'wall')")
+    raise ArgumentError("bringup", "clock", kind, "'sim', 'wall' or a clock object")
 
 
 def rate_due(last: float | None, time: float, rate: int, cm_rate: int) -> bool:

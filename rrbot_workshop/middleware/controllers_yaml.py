@@ -110,6 +110,25 @@ class ControllersConfig:
     sections: list[tuple[str, dict[str, Any]]] = field(default_factory=list)
     param_files: dict[str, list[str]] = field(default_factory=dict)
     param_file_parameters: dict[str, dict[str, Any]] = field(default_factory=dict)
+    #: Controller name -> the manager's ``<name>.params_file`` as the file writes it (a string or a list).
+    manager_params_files: dict[str, Any] = field(default_factory=dict)
+
+    def params_files_of(self, name: str) -> list[str]:
+        """The files of the manager's ``<name>.params_file`` parameter (Jazzy's ``load_controller`` reads it), in
+        order; empty if it is not set.
+
+        Raises:
+            ParameterError: If the value is neither a string nor a list of strings.
+        """
+        value = self.manager_params_files.get(name)
+        if value is None:
+            return []
+        if isinstance(value, str):
+            return [value]
+        if isinstance(value, list) and value and all(isinstance(v, str) for v in value):
+            return list(value)
+        raise ParameterError("controller_manager", f"{name}.params_file", f"must be a string or a list of strings "
+                             f"(paths of parameter files with a section for '{name}'), got {value!r} ({self.source})")
 
     def parameters_for(self, name: str) -> dict[str, Any]:
         """Parameters of controller ``name`` (a deep copy; empty if none were given).
@@ -305,6 +324,14 @@ def _configure(sections: list[tuple[str, dict[str, Any]]], where: str, namespace
 
 def _manager_section(cfg: ControllersConfig, params: Mapping[str, Any], where: str) -> None:
     for pname, pval in params.items():
+        if isinstance(pval, Mapping) and "params_file" in pval:  # the manager's <name>.params_file, not the controller's
+            cfg.manager_params_files[str(pname)] = copy.deepcopy(pval["params_file"])
+            pval = {k: v for k, v in pval.items() if k != "params_file"}
+            if not pval:
+                continue
+        elif str(pname).endswith(".params_file") and str(pname) != ".params_file":
+            cfg.manager_params_files[str(pname)[: -len(".params_file")]] = copy.deepcopy(pval)
+            continue
         if isinstance(pval, Mapping) and "type" in pval:
             ctype = pval["type"]
             if not isinstance(ctype, str) or "/" not in ctype:

@@ -36,9 +36,11 @@ class State(enum.Enum):
         """Parse a label such as ``"active"`` (any letter case).
 
         Raises:
-            ValueError: If the label is not one of the five primary states.
+            ValueError: If the label is not one of the five primary states (or not a string).
         """
         try:
+            if not isinstance(label, str):
+                raise ValueError(label)
             return cls(label.strip().lower())
         except ValueError:
             valid = ", ".join(s.value for s in cls)

@@ -17,7 +17,7 @@ from typing import Any
 
 from rrbot_workshop.exceptions import MessageError
 from rrbot_workshop.middleware.names import topic_name_problem
-from rrbot_workshop.msgs import ros_type_name
+from rrbot_workshop.msgs import message_problem, ros_type_name
 
 __all__ = ["TopicBus", "Node", "Publisher", "Subscription", "Service", "resolve_name", "node_owner"]
 
@@ -272,8 +272,9 @@ class TopicBus:
         '/forward_position_controller/commands'?``).
 
         Raises:
-            MessageError: If the topic is not a valid ROS topic name, ``msg`` is None, or the topic is known to carry
-                another message type.
+            MessageError: If the topic is not a valid ROS topic name, ``msg`` is None, the topic is known to carry
+                another message type, or a field of ``msg`` is of a type its ROS message would refuse (None, a string
+                for a number, ...: :func:`~rrbot_workshop.msgs.message_problem`).
         """
         problem = topic_name_problem(topic)
         if problem:
@@ -285,6 +286,9 @@ class TopicBus:
         known = self._types.get(topic)
         if known is not None and not isinstance(msg, known):
             raise MessageError(f"topic '{topic}' carries {known.__name__}, got {type(msg).__name__}")
+        field_problem = message_problem(msg)
+        if field_problem:
+            raise MessageError(f"cannot publish the {type(msg).__name__} on '{topic}': its {field_problem}")
         if not self._subs.get(topic) and topic not in self._warned_no_subscriber:
             self._warned_no_subscriber.add(topic)
             close = self.similar_topics(topic, subscribed_only=True)

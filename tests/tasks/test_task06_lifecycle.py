@@ -514,8 +514,9 @@ def test_remove_an_inactive_controller(learner: ModuleType) -> None:
 @graded(points=1, after=("lifecycle_file_loads",), hint=(
     "Task 6.3: remove_controller() must take an unconfigured controller (loaded, not configured) out of the "
     "manager, and leave the other controllers as they were.",
-    "An unconfigured controller is unloaded as it is: cleanup refuses a controller that is not inactive. Only call "
-    "cm.cleanup_controller(name) when it is inactive; then cm.unload_controller(name).",
+    "An unconfigured controller is unloaded as it is: it is not active, so there is nothing to deactivate, and its "
+    "cleanup has nothing to do (Jazzy answers OK). Deactivate only an active controller; then "
+    "cm.unload_controller(name).",
     "if state in ('active', 'inactive'): cm.cleanup_controller(name)\ncm.unload_controller(name)",
 ))
 def test_remove_an_unconfigured_controller(learner: ModuleType) -> None:

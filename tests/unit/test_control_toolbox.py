@@ -158,7 +158,7 @@ def test_dt_zero_returns_previous_command_and_keeps_state():
 
 
 def test_negative_dt_raises_naming_dt():
-    with pytest.raises(ValueError, match="dt=-0.1"):
+    with pytest.raises(ValueError, match="dt.*-0.1"):
         Pid(p=1.0).compute_command(1.0, -0.1)
     with pytest.raises(ValueError, match="dt"):
         Pid(p=1.0).compute_command(1.0, 0.0, -0.1)
@@ -175,7 +175,7 @@ def test_non_finite_error_gives_nan_and_keeps_integral(bad):
 
 
 def test_wrong_argument_count_raises():
-    with pytest.raises(TypeError, match="compute_command takes"):
+    with pytest.raises(TypeError, match=r"compute_command.*\(error, dt\) or \(error, error_dot, dt\)"):
         Pid().compute_command(1.0)
 
 

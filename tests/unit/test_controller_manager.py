@@ -91,11 +91,15 @@ def test_unload_unknown_raises() -> None:
         make_cm({}).unload_controller("nope")
 
 
-def test_cleanup_requires_inactive() -> None:
+def test_cleanup_refuses_an_active_controller() -> None:
+    """Jazzy's cleanup_controller_srv, variation 3: an active controller is not cleaned up (it stays active)."""
     cm = make_cm({"c1": J1})
     cm.load_controller("c1")
-    with pytest.raises(ControllerError, match="only an inactive"):
+    cm.configure_controller("c1")
+    cm.switch_controllers(activate=["c1"], strictness="strict")
+    with pytest.raises(ControllerError, match="'active' and cannot be cleaned up"):
         cm.cleanup_controller("c1")
+    assert cm.controllers["c1"].state.label == "active"
 
 
 def test_set_controller_state_walks_the_lifecycle() -> None:

@@ -98,10 +98,6 @@ WRONG = [
     Variant("unload_without_deactivating", {F: [(
         '    if state == "active":\n        cm.switch_controllers(deactivate=[name], strictness="strict")\n', "")]},
             fails={"remove_an_active_controller", "remove_controller_generated"}, only=True, names_file=F),
-    Variant("cleanup_of_an_unconfigured_controller", {F: [(
-        '    if state in ("active", "inactive"):\n        cm.cleanup_controller(name)\n',
-        "    cm.cleanup_controller(name)\n")]},
-            fails={"remove_an_unconfigured_controller", "remove_controller_generated"}, only=True, names_file=F),
     Variant("state_of_a_fixed_controller_looked_up", {F: [(
         "    state = next(c.state for c in cm.list_controllers() if c.name == name)\n",
         '    state = next(c.state for c in cm.list_controllers() if c.name == "forward_position_controller")\n')]},
@@ -193,6 +189,10 @@ RIGHT = [
         '    cm.set_hardware_component_state(component, "active")\n'
         '    cm.switch_controllers(activate=list(controllers), deactivate=[], strictness="STRICT")\n'))]}),
     Variant("remove_by_table_without_cleanup", {F: [(REMOVE, REMOVE_BY_TABLE)]}),
+    # Jazzy answers OK to the cleanup of an unconfigured controller, "nothing to do" (cleanup_controller_srv, variation 2)
+    Variant("cleanup_of_an_unconfigured_controller_too", {F: [(
+        '    if state in ("active", "inactive"):\n        cm.cleanup_controller(name)\n',
+        "    cm.cleanup_controller(name)\n")]}),
     Variant("state_labels_in_capitals", {F: [
         _state("deactivate_the_hardware", "joint_state_broadcaster", "active", '"Active"'),
         _state("cleanup_an_inactive_controller", "joint_trajectory_controller", "unconfigured", '"UNCONFIGURED"')]}),

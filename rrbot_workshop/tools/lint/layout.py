@@ -141,6 +141,7 @@ class Controller:
         type_sections: Where the type was given: ``(section, key path inside ros__parameters)``.
         sections: The sections that apply to it, in file order.
         manager_entry: Its entry in the manager's section (``type`` and the other keys there).
+        file_parameters: The parameters its ``params_file`` gives it.
     """
 
     name: str
@@ -149,12 +150,16 @@ class Controller:
     type_sections: list[tuple[Section, tuple[str, ...]]] = field(default_factory=list)
     sections: list[Section] = field(default_factory=list)
     manager_entry: dict[str, Any] = field(default_factory=dict)
+    #: What the files of the manager's ``<name>.params_file`` give it (they win over the sections).
+    file_parameters: dict[str, Any] = field(default_factory=dict)
 
     def parameters(self) -> dict[str, Any]:
-        """Its ``ros__parameters``, the sections merged in file order (later sections win, maps merge)."""
+        """Its ``ros__parameters``, the sections merged in file order (later sections win, maps merge), then the
+        parameters of its ``params_file``."""
         merged: dict[str, Any] = {}
         for section in self.sections:
             _merge(merged, section.params)
+        _merge(merged, self.file_parameters)
         return merged
 
     def specific_sections(self) -> list[Section]:

@@ -27,6 +27,7 @@ all at once instead of one at a time at bringup:
 from __future__ import annotations
 
 import contextlib
+import functools
 import logging
 import re
 from collections.abc import Mapping, Sequence
@@ -71,6 +72,7 @@ from rrbot_workshop.tools.lint.parameters import (
     manager_findings,
     rate_findings,
 )
+from rrbot_workshop.tools.lint.params_files import params_file_parameters
 from rrbot_workshop.tools.lint.urdf import parse_description
 
 
@@ -248,6 +250,10 @@ class _Linter:
                 return line
         return self.lines.find(*base, *parts)
 
+    def report_at(self, sections: Sequence[Section], where: str, key: str, level: str, message: str) -> None:
+        """A finding at ``key`` (dotted) in the last of ``sections`` that gives it, named ``where``."""
+        self.add(level, self.line_of(sections, key), where, message)
+
     def reporter(self, controller: Controller) -> Any:
         sections = controller.specific_sections() or controller.sections or [s for s, _ in controller.type_sections]
 
@@ -325,6 +331,11 @@ class _Linter:
                            f"'{controller.name}.{key}' is a parameter of the controller manager, not of controller "
                            f"'{controller.name}': give it in the controller's own section "
                            f"('{controller.name}: ros__parameters: {key}: ...')")
+            if "params_file" in controller.manager_entry:
+                controller.file_parameters = params_file_parameters(
+                    controller.name, manager.namespace, controller.manager_entry["params_file"],
+                    functools.partial(self.report_at, own, f"{label}.{controller.name}.params_file",
+                                      f"{controller.name}.params_file"))
             interfaces = self.check_controller(controller, rate, urdf, label)
             if interfaces is not None:
                 exports[controller.name] = interfaces
