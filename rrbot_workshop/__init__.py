@@ -100,7 +100,8 @@ def __getattr__(name: str) -> Any:
 
 
 def load_ipython_extension(ipython: Any) -> None:
-    """``%load_ext rrbot_workshop``: the ``%control`` and ``%topic`` magics, and short tracebacks for library errors.
+    """``%load_ext rrbot_workshop``: the ``%control``, ``%topic`` and ``%%pytest`` magics, and short tracebacks for
+    library errors.
 
     A :class:`RRBotWorkshopError` raised in a notebook cell then shows its message first and the learner's
     own frames only; ``%tb`` prints the full traceback.

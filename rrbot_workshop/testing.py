@@ -2,7 +2,8 @@
 
 ros2_controllers' unit tests build a controller, hand it interfaces they own, and step ``update`` by
 hand. :class:`ControllerHarness` does the same here, so controller tests (and the task-8 grader) stay
-small and do not depend on the manager.
+small and do not depend on the manager. :class:`NullController` is the test double a test is tried on to see whether
+it checks anything: a test that passes on a controller that does nothing checks nothing the controller does.
 """
 
 from __future__ import annotations
@@ -26,7 +27,7 @@ from rrbot_workshop.hardware_interface.handles import (
 from rrbot_workshop.middleware.lifecycle import CallbackReturn, ReturnType, State
 from rrbot_workshop.middleware.topics import TopicBus
 
-__all__ = ["ControllerHarness"]
+__all__ = ["ControllerHarness", "NullController"]
 
 
 class ControllerHarness:
@@ -169,3 +170,21 @@ class ControllerHarness:
         if topic.startswith("~"):
             topic = f"/{self.name}{topic[1:]}"
         return self.bus.latest(topic)
+
+
+class NullController(ControllerInterface):
+    """A controller that does nothing and always succeeds: every lifecycle callback answers SUCCESS, ``update``
+    answers OK, it declares no parameters (any are accepted), claims no interface and creates no topic.
+
+    A test of a controller that passes on it too checks nothing that controller does (it can only fail when the
+    controller raises): the task-16 grader tries each learner test on it.
+    """
+
+    def update(self, time: float, period: float) -> ReturnType:
+        """Do nothing.
+
+        Args:
+            time: Current time in [s].
+            period: Time since the last update in [s].
+        """
+        return ReturnType.OK

@@ -15,8 +15,9 @@ __all__ = ["PREDICTIONS"]
 
 # TODO(task 14): replace every None: a state ("unconfigured", "inactive", "active", "finalized") or a position in
 #   rad, to 2 decimals. Reason from what you know of the controller manager and the lifecycle and write your
-#   prediction; notebook 14 runs a fault and explains it only once you have predicted it. The self-check only says
-#   which parts of your predictions are wrong, never the answer.
+#   prediction; notebook 14 runs a fault and explains it only once you have predicted it, and keeps your prediction
+#   as it was then: a prediction changed after its outcome was shown earns nothing. The self-check only says which
+#   parts of your predictions are wrong, never the answer, and gives no hint for a part not predicted yet.
 PREDICTIONS: dict[str, dict[str, Any]] = {
     # the hardware's read() returns ERROR once
     "read_error": {

@@ -1,340 +1,476 @@
-"""The instructor's view of a room: every learner's progress, where the room is stuck, progress over time.
+"""The instructor's view of a room: where each learner stands on each task, where the room is stuck, and since when.
 
 ``rrbot-workshop class-report WORKSPACE... --out DIR`` reads the attempt logs that each learner's self-checks write
 (``exercises/.progress/taskNN.json`` in the learner's workspace, see :mod:`rrbot_workshop.course.grading.attempts`)
-and writes ``report.json``, ``report.csv`` and ``report.html`` (with a plot of the room's progress over the
-workshop's time). It grades nothing and writes nothing in any learner's folder: it reads what their own checks
-recorded, so a room of 30 is reported in a second. A log that cannot be read, or that a check was writing at that
-moment, becomes a note in the report, never an error.
+and writes ``report.json``, ``report.csv`` and ``report.html``. Each learner × task is not started, working, stuck
+or passed (:mod:`rrbot_workshop.classroom.task_status`); the report says when it was made and each learner's last
+self-check. It grades nothing and writes nothing in any learner's folder: it reads what their own checks recorded, so
+a room of 30 is reported in a second.
+
+Nothing a learner puts in their workspace can stop, hang or skew the report (:mod:`rrbot_workshop.classroom.
+learner_logs`): only the learner's own regular files are read, never through a link, within bounds, and every file
+left out is one note for that learner. The CSV is safe to open in a spreadsheet (:func:`csv_cell`) and the HTML page
+escapes every text.
 
 A workspace is a learner's course folder (the one holding ``exercises/``), or a home folder holding one at
 ``rrbot_workshop/`` (what ``rrbot-workshop init`` makes); each may be given as a glob (``/home/*``). On a hub, the
-learners can come from the hub's user list instead (:func:`hub_homes`: ``--hub URL --home-template
-'/home/jupyter-{username}'``, with an API token in ``$JUPYTERHUB_API_TOKEN``).
+learners can come from the hub's user list instead (:func:`hub_users`, :func:`hub_workspaces`): their names are taken
+literally, never as patterns.
 """
 
 from __future__ import annotations
 
-import base64
 import csv
 import glob
-import html
-import io
+import hashlib
 import json
 import os
 import re
+import stat
+import time
 from collections import Counter
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from rrbot_workshop.classroom.class_report_page import local_time, render_html
+from rrbot_workshop.classroom.learner_logs import LearnerLogs, read_logs, shown
+from rrbot_workshop.classroom.task_status import (
+    DEFAULT_STUCK_AFTER_S,
+    NOT_STARTED,
+    STATUSES,
+    STUCK,
+    WORKING,
+    TaskState,
+    classify,
+    last_activity,
+)
 from rrbot_workshop.exceptions import CourseError
 
-__all__ = ["LearnerTask", "Learner", "RoomReport", "find_workspaces", "hub_homes", "read_learner", "build_report",
-           "write_report", "WORKSPACE_NAME"]
+__all__ = ["Workspace", "LearnerReport", "RoomReport", "find_workspaces", "hub_users", "hub_workspaces", "tljh_home",
+           "untouched_versions", "build_report", "write_report", "csv_cell", "local_time", "WORKSPACE_NAME",
+           "TLJH_HOMES", "MAX_HUB_NAME_CHARS", "MAX_HUB_USERS"]
 
 #: The folder ``rrbot-workshop init`` makes in a learner's home.
 WORKSPACE_NAME = "rrbot_workshop"
+#: The ``--home-template`` that means The Littlest JupyterHub's homes (see :func:`tljh_home`).
+TLJH_HOMES = "tljh"
+#: Longest hub user name taken [characters]; a longer one is a note.
+MAX_HUB_NAME_CHARS = 255
+#: Most hub users listed.
+MAX_HUB_USERS = 5000
+#: JupyterHub's media type for a paginated answer (JupyterHub 2.0 and later).
+_PAGINATION = "application/jupyterhub-pagination+json"
+_PAGE = 200  # JupyterHub's largest page by default (api_page_max_limit)
+_HUB_MAX_BYTES = 64 * 1024 * 1024
+_TASK_DIR = re.compile(r"^task(\d{2})_")
+#: First characters that make a spreadsheet read a cell as a formula (OWASP's CSV injection list, with NUL and the
+#: full-width forms some spreadsheets also take).
+_FORMULA_START = ("=", "+", "-", "@", "\t", "\r", "\n", "\0", "\uff1d", "\uff0b", "\uff0d", "\uff20")
 
-_LOG_RE = re.compile(r"^task(\d{2})\.json$")
 
-
-@dataclass
-class LearnerTask:
-    """One learner's record of one task, from their attempt log.
+@dataclass(frozen=True)
+class Workspace:
+    """A learner's workspace, as the report finds it.
 
     Attributes:
-        task: Task number.
-        attempts: Self-checks run.
-        passed: Whether an attempt got every point.
-        points: Points of the latest attempt.
-        max_points: Points available at the latest attempt.
-        time_to_pass_s: Seconds from the first attempt to the first full score, or None.
-        failing: The latest attempt's failed checks -> reason.
-        times: Time of each attempt [s since the epoch], and whether it passed.
+        name: The learner.
+        root: The folder the instructor named or the hub gave (a home, or the course folder itself).
+        inside: Folders from ``root`` to the workspace: ``()`` or ``("rrbot_workshop",)``; never followed as links.
     """
 
-    task: int
-    attempts: int = 0
-    passed: bool = False
-    points: float = 0.0
-    max_points: float = 0.0
-    time_to_pass_s: float | None = None
-    failing: dict[str, str] = field(default_factory=dict)
-    times: list[tuple[float, bool]] = field(default_factory=list)
+    name: str
+    root: Path
+    inside: tuple[str, ...] = ()
+
+    @property
+    def path(self) -> Path:
+        """The workspace folder."""
+        return self.root.joinpath(*self.inside)
+
+
+def _mode(path: Path) -> int | None:
+    """``path``'s type bits, not following a link; None if it cannot be looked at (missing, a name too long...)."""
+    try:
+        return os.lstat(path).st_mode
+    except (OSError, ValueError):
+        return None
+
+
+def _is_dir(path: Path) -> bool:
+    mode = _mode(path)
+    return mode is not None and stat.S_ISDIR(mode)
+
+
+def _workspace_in(name: str, folder: Path) -> Workspace | None:
+    """The workspace ``folder`` holds (itself, or its ``rrbot_workshop/``, even a link there: reading notes it)."""
+    if _is_dir(folder / "exercises"):
+        return Workspace(name, folder)
+    if _mode(folder / WORKSPACE_NAME) is not None:
+        return Workspace(name, folder, (WORKSPACE_NAME,))
+    return None
+
+
+def _key(workspace: Workspace) -> tuple[Path, tuple[str, ...]]:
+    """What makes two workspaces the same: the folder they are in, links resolved in the part the instructor named
+    and never in the part inside it (the learner's)."""
+    if all(_is_dir(workspace.root.joinpath(*workspace.inside[:i + 1])) for i in range(len(workspace.inside))):
+        return workspace.path.resolve(), ()
+    return workspace.root.resolve(), workspace.inside
+
+
+def _through_link(match: Path, fixed: int) -> bool:
+    """Whether a glob's ``match`` is, or lies in, a link among the names the glob matched (from part ``fixed`` on)."""
+    parts = match.parts
+    return any(stat.S_ISLNK(_mode(Path(*parts[:i + 1])) or 0) for i in range(fixed, len(parts)))
+
+
+def find_workspaces(patterns: list[str], notes: list[str] | None = None,
+                    missing_ok: bool = False) -> list[Workspace]:
+    """Every workspace the patterns (paths or globs) name, sorted by learner.
+
+    A path the instructor wrote is followed even if it is a link; a glob's match that is a link is left out (with a
+    note), since a learner could have made it.
+
+    Args:
+        patterns: Learners' course folders or homes, or globs of them.
+        notes: Where the notes go (links left out; with ``missing_ok``, homes without a workspace).
+        missing_ok: A pattern naming no workspace is a note, not an error.
+
+    Raises:
+        CourseError: Without ``missing_ok``, if a pattern matches no folder, or nothing matched is a workspace.
+    """
+    notes = [] if notes is None else notes
+    found: dict[tuple[Path, tuple[str, ...]], Workspace] = {}
+    for pattern in patterns:
+        expanded = os.path.expanduser(pattern)
+        is_glob = glob.has_magic(expanded)
+        matches = sorted(glob.glob(expanded)) if is_glob else [expanded]
+        folders = []
+        fixed = next((i for i, part in enumerate(Path(expanded).parts) if glob.has_magic(part)), 0)
+        for match in matches:
+            if is_glob and _through_link(Path(match), fixed):
+                notes.append(f"{shown(match, 300)}: a link (or in one) among the folders '{shown(pattern, 300)}' "
+                             "matches; left out (a learner may have made it; name the folder itself to include it)")
+            elif os.path.isdir(match):
+                folders.append(Path(match))
+        if not folders and not missing_ok:
+            raise CourseError("workspace", pattern, f"'{shown(pattern, 300)}' matches no folder; give learners' "
+                              "course folders or homes, e.g. '/home/*' or 'uploads/*'")
+        for folder in folders:
+            name = folder.parent.name if folder.name == WORKSPACE_NAME and folder.parent.name else folder.name
+            workspace = _workspace_in(name or str(folder), folder)
+            if workspace is not None:
+                found.setdefault(_key(workspace), workspace)
+            elif missing_ok:
+                notes.append(f"{shown(str(folder), 300)}: no workspace yet (never started a server?)")
+    if not found and not missing_ok:
+        named = " ".join(patterns)
+        raise CourseError("workspace", named, f"no learner's workspace in {shown(named, 300)} (a folder holding "
+                          f"exercises/, or a home holding {WORKSPACE_NAME}/exercises/)")
+    return sorted(found.values(), key=lambda w: (w.name, str(w.path)))
+
+
+def _hub_get(url: str, token: str, offset: int) -> Any:
+    import urllib.error
+    import urllib.request
+
+    request = urllib.request.Request(f"{url.rstrip('/')}/hub/api/users?offset={offset}&limit={_PAGE}",
+                                     headers={"Authorization": f"token {token}", "Accept": _PAGINATION})
+    try:
+        with urllib.request.urlopen(request, timeout=30) as response:  # noqa: S310 - the instructor's hub address
+            data = response.read(_HUB_MAX_BYTES + 1)
+        if len(data) > _HUB_MAX_BYTES:
+            raise ValueError("its answer is larger than 64 MiB")
+        return json.loads(data)
+    except (urllib.error.URLError, ValueError, OSError, RecursionError) as exc:
+        raise CourseError("--hub", url, f"did not list its users ({exc}); give the hub's address and an API token "
+                          "allowed to list users in $JUPYTERHUB_API_TOKEN") from None
+
+
+def hub_users(url: str, token: str) -> list[str]:
+    """The name of every user of the JupyterHub at ``url``, from its REST API (``GET /hub/api/users``, every page).
+
+    Args:
+        url: The hub's address, e.g. ``http://127.0.0.1:8000``.
+        token: An API token allowed to list users (an admin's, or a service's with ``list:users``).
+
+    Returns:
+        The names as the hub gives them (at most :data:`MAX_HUB_USERS`), in the hub's order; entries without a name
+        are skipped.
+
+    Raises:
+        CourseError: If ``url`` is not an http(s) address, or the hub does not answer with its users.
+    """
+    if not url.startswith(("http://", "https://")):
+        raise CourseError("--hub", url, f"--hub {shown(url, 300)}: give the hub's http:// or https:// address, e.g. "
+                          "http://127.0.0.1:8000")
+    names: list[str] = []
+    offset = 0
+    while len(names) < MAX_HUB_USERS:
+        answer = _hub_get(url, token, offset)
+        if isinstance(answer, list):  # a hub before 2.0: one list of every user
+            items, following = answer, None
+        elif isinstance(answer, dict) and isinstance(answer.get("items"), list):
+            items = answer["items"]
+            pages = answer.get("_pagination")
+            following = pages.get("next") if isinstance(pages, dict) else None
+        else:
+            raise CourseError("--hub", url, "answered something other than JupyterHub's list of users")
+        names += [u["name"] for u in items if isinstance(u, dict) and isinstance(u.get("name"), str)]
+        next_offset = following.get("offset") if isinstance(following, dict) else None
+        if not isinstance(next_offset, int) or isinstance(next_offset, bool) or next_offset <= offset:
+            break
+        offset = next_offset
+    return names[:MAX_HUB_USERS]
+
+
+def tljh_home(username: str) -> Path:
+    """The home of a hub user on The Littlest JupyterHub: ``/home/jupyter-<name>``, where a system user name of 26
+    characters or more is cut to 26 and followed by ``-`` and the first 5 hex digits of its sha256 (as TLJH's
+    ``generate_system_username`` makes them)."""
+    system = f"jupyter-{username}"
+    if len(system) >= 26:
+        system = f"{system[:26]}-{hashlib.sha256(system.encode('utf-8')).hexdigest()[:5]}"
+    return Path("/home") / system
+
+
+def _name_problem(username: str) -> str:
+    if len(username) > MAX_HUB_NAME_CHARS:
+        return f"is longer than {MAX_HUB_NAME_CHARS} characters"
+    if username in ("", ".", "..") or "/" in username or "\0" in username:
+        return "cannot be a folder's name"
+    return ""
+
+
+def hub_workspaces(usernames: list[str], template: str, notes: list[str]) -> list[Workspace]:
+    """The workspace of each hub user, their home taken literally from ``template`` (never as a pattern).
+
+    Args:
+        usernames: The hub's user names (:func:`hub_users`).
+        template: :data:`TLJH_HOMES` for TLJH's homes (:func:`tljh_home`), or a path with ``{username}``, e.g.
+            ``/home/{username}``; the name is put in as it is.
+        notes: Where a line goes for each user left out (a name that cannot be a folder's, no workspace yet).
+
+    Raises:
+        CourseError: If ``template`` is neither :data:`TLJH_HOMES` nor a path with ``{username}``.
+    """
+    if template != TLJH_HOMES and "{username}" not in template:
+        raise CourseError("--home-template", template, "must contain {username}, e.g. '/home/{username}', or be "
+                          f"'{TLJH_HOMES}' for The Littlest JupyterHub's homes")
+    found: dict[str, Workspace] = {}
+    for username in dict.fromkeys(usernames):
+        problem = _name_problem(username)
+        if problem:
+            notes.append(f"hub user '{shown(username)}': the name {problem}; left out")
+            continue
+        home = tljh_home(username) if template == TLJH_HOMES else Path(template.replace("{username}", username))
+        workspace = _workspace_in(username, home) if os.path.isdir(home) else None
+        if workspace is None:
+            notes.append(f"{shown(username)}: no workspace yet in {shown(str(home), 300)} (never started a server?)")
+        else:
+            found[username] = workspace
+    return sorted(found.values(), key=lambda w: w.name)
+
+
+def untouched_versions(course: Path | None) -> dict[int, set[str]]:
+    """The version of each task's exercise as handed out (:func:`~rrbot_workshop.course.grading.attempts.
+    files_version` of the course's ``exercises/taskNN_*``): self-checks of these files are not a start."""
+    from rrbot_workshop.course.grading.attempts import files_version
+
+    out: dict[int, set[str]] = {}
+    folder = (course / "exercises") if course is not None else None
+    if folder is None or not folder.is_dir():
+        return out
+    for child in sorted(folder.iterdir()):
+        match = _TASK_DIR.match(child.name)
+        if match and child.is_dir():
+            out.setdefault(int(match.group(1)), set()).add(files_version(child))
+    return out
 
 
 @dataclass
-class Learner:
-    """A learner's workspace and what its logs say.
+class LearnerReport:
+    """One learner: where they stand on each task they checked.
 
     Attributes:
-        name: The learner (the home folder's name, or the workspace's).
-        workspace: The course folder.
-        tasks: Task number -> record.
-        notes: Logs that could not be read, and why.
+        name: The learner (the hub's user name, the home folder's name, or the course folder's).
+        workspace: The workspace folder.
+        tasks: Task number -> state (tasks without a log are not started).
+        last_activity: Their latest self-check [s since the epoch], or None.
+        notes: Their files left out, and why.
     """
 
     name: str
     workspace: Path
-    tasks: dict[int, LearnerTask] = field(default_factory=dict)
+    tasks: dict[int, TaskState] = field(default_factory=dict)
+    last_activity: float | None = None
     notes: list[str] = field(default_factory=list)
+
+    def state(self, task: int) -> TaskState:
+        """The learner's state on ``task`` (not started without a log)."""
+        return self.tasks.get(task) or TaskState(NOT_STARTED)
 
 
 @dataclass
 class RoomReport:
-    """The room: learners, and per check how many fail it now."""
+    """The room at one moment.
 
-    learners: list[Learner]
+    Attributes:
+        learners: Every learner, sorted by name.
+        notes: The room's notes: hub users left out, links left out, every learner's notes.
+        made_at: When the report was made [s since the epoch].
+        stuck_after: How long a check must keep failing for a learner to be stuck on it [s].
+    """
+
+    learners: list[LearnerReport]
     notes: list[str]
+    made_at: float
+    stuck_after: float = DEFAULT_STUCK_AFTER_S
 
     def tasks(self) -> list[int]:
         """Every task someone checked, ascending."""
         return sorted({t for learner in self.learners for t in learner.tasks})
 
+    def counts(self) -> dict[int, dict[str, int]]:
+        """Per task: how many learners are at each status (every status present, 0 included)."""
+        return {t: {s: sum(lr.state(t).status == s for lr in self.learners) for s in STATUSES} for t in self.tasks()}
+
     def stuck(self) -> list[dict[str, Any]]:
-        """Per check failing now (in learners' latest attempts): how many learners, and the most common reason."""
-        counts: dict[tuple[int, str], list[str]] = {}
+        """Per check failing now for learners who started the task: how many fail it, how many are stuck on it, and
+        the most common reason among them. Most stuck first, then most failing."""
+        reasons: dict[tuple[int, str], list[str]] = {}
+        stuck: Counter[tuple[int, str]] = Counter()
         for learner in self.learners:
-            for record in learner.tasks.values():
-                for check, reason in record.failing.items():
-                    counts.setdefault((record.task, check), []).append(reason)
+            for task, state in learner.tasks.items():
+                if state.status not in (WORKING, STUCK):
+                    continue
+                for check, reason in state.failing.items():
+                    reasons.setdefault((task, check), []).append(reason)
+                    stuck[(task, check)] += check in state.stuck_on
         rows = []
-        for (task, check), reasons in counts.items():
-            common, times = Counter(r for r in reasons if r).most_common(1)[0] if any(reasons) else ("", 0)
-            rows.append({"task": task, "check": check, "learners_failing": len(reasons),
-                         "most_common_reason": common, "learners_with_that_reason": times})
-        return sorted(rows, key=lambda r: (-r["learners_failing"], r["task"], r["check"]))
+        for (task, check), given in reasons.items():
+            common, times = Counter(r for r in given if r).most_common(1)[0] if any(given) else ("", 0)
+            rows.append({"task": task, "check": check, "learners_failing": len(given),
+                         "learners_stuck": stuck[(task, check)], "most_common_reason": common,
+                         "learners_with_that_reason": times})
+        return sorted(rows, key=lambda r: (-r["learners_stuck"], -r["learners_failing"], r["task"], r["check"]))
 
     def to_dict(self) -> dict[str, Any]:
-        """The JSON form: learners (each with their tasks), the checks where the room is stuck, notes."""
+        """The JSON form: when it was made, the option, learners (each task's state), counts, the stuck table, notes."""
         return {
-            "learners": [{"name": lr.name, "tasks": {str(t): _task_dict(r) for t, r in sorted(lr.tasks.items())}}
+            "made_at": self.made_at, "made_at_local": local_time(self.made_at), "stuck_after_s": self.stuck_after,
+            "learners": [{"name": lr.name, "last_activity": lr.last_activity,
+                          "tasks": {str(t): s.to_dict() for t, s in sorted(lr.tasks.items())}}
                          for lr in self.learners],
+            "counts": {str(t): c for t, c in self.counts().items()},
             "stuck": self.stuck(),
             "notes": self.notes,
         }
 
 
-def _task_dict(record: LearnerTask) -> dict[str, Any]:
-    return {"attempts": record.attempts, "passed": record.passed, "points": record.points,
-            "max_points": record.max_points, "time_to_pass_s": record.time_to_pass_s,
-            "failing": sorted(record.failing)}
-
-
-def find_workspaces(patterns: list[str]) -> list[tuple[str, Path]]:
-    """``(learner name, course folder)`` for each workspace the patterns (paths or globs) name, sorted by name.
-
-    Raises:
-        CourseError: If a pattern matches nothing, or nothing matched is a workspace.
-    """
-    found: dict[Path, str] = {}
-    for pattern in patterns:
-        matches = sorted(glob.glob(os.path.expanduser(pattern))) if glob.has_magic(pattern) else [pattern]
-        matches = [m for m in matches if Path(m).expanduser().is_dir()]
-        if not matches:
-            raise CourseError("workspace", pattern, "matches no folder; give learners' course folders or homes, e.g. "
-                              "'/home/*' or 'uploads/*'")
-        for match in matches:
-            folder = Path(match).expanduser().resolve()
-            if (folder / "exercises").is_dir():
-                found.setdefault(folder, folder.name)
-            elif (folder / WORKSPACE_NAME / "exercises").is_dir():
-                found.setdefault(folder / WORKSPACE_NAME, folder.name)
-    if not found:
-        raise CourseError("workspace", " ".join(patterns), "no learner's workspace there (a folder holding exercises/, "
-                          f"or a home holding {WORKSPACE_NAME}/exercises/)")
-    return sorted(((name, path) for path, name in found.items()), key=lambda item: (item[0], str(item[1])))
-
-
-def hub_homes(url: str, token: str, template: str) -> list[str]:
-    """The home of every user of the JupyterHub at ``url`` (its REST API's user list), from ``template``.
+def build_report(patterns: list[str] | tuple[str, ...] = (), missing_ok: bool = False, *,
+                 workspaces: list[Workspace] | tuple[Workspace, ...] = (), notes: list[str] | None = None,
+                 now: float | None = None, stuck_after: float = DEFAULT_STUCK_AFTER_S,
+                 course: Path | None = None) -> RoomReport:
+    """Read every workspace and classify each learner × task.
 
     Args:
-        url: The hub's address, e.g. ``http://127.0.0.1:8000``.
-        token: An API token allowed to list users (an admin's, or a service's with ``list:users``).
-        template: A home folder with ``{username}``, e.g. ``/home/jupyter-{username}`` (TLJH's).
+        patterns: Workspaces, homes, or globs of them (see :func:`find_workspaces`).
+        missing_ok: A pattern naming no workspace is a note, not an error.
+        workspaces: More workspaces, found already (a hub's, see :func:`hub_workspaces`).
+        notes: Notes found already (the hub users left out).
+        now: The time the report is for [s since the epoch]; default now.
+        stuck_after: How long the same check must keep failing for a learner to be stuck [s].
+        course: The installed course, whose exercises as handed out are not a start (:func:`untouched_versions`);
+            default the one this library belongs to.
 
     Raises:
-        CourseError: If the template has no ``{username}``, or the hub does not answer with its users.
+        CourseError: If a pattern names no workspace (without ``missing_ok``), or ``stuck_after`` is not a number of
+            seconds, 0 or more.
     """
-    import urllib.error
-    import urllib.request
+    from rrbot_workshop.classroom.workspace import installed_course
 
-    if "{username}" not in template:
-        raise CourseError("--home-template", template, "must contain {username}, e.g. '/home/jupyter-{username}'")
-    request = urllib.request.Request(url.rstrip("/") + "/hub/api/users", headers={"Authorization": f"token {token}"})
-    try:
-        with urllib.request.urlopen(request, timeout=30) as response:
-            users = json.loads(response.read())
-    except (urllib.error.URLError, ValueError, OSError) as exc:
-        raise CourseError("--hub", url, f"did not list its users ({exc}); give the hub's address and an API token "
-                          "allowed to list users in $JUPYTERHUB_API_TOKEN") from None
-    if not isinstance(users, list):
-        raise CourseError("--hub", url, "answered something other than a list of users")
-    return [template.format(username=u["name"]) for u in users if isinstance(u, dict) and isinstance(u.get("name"), str)]
-
-
-def read_learner(name: str, workspace: Path) -> Learner:
-    """What a learner's attempt logs say; unreadable logs become notes."""
-    learner = Learner(name, workspace)
-    folder = workspace / "exercises" / ".progress"
-    if not folder.is_dir():
-        return learner
-    for path in sorted(folder.iterdir()):
-        match = _LOG_RE.match(path.name)
-        if not match:
-            continue
-        task = int(match.group(1))
-        why = ""
-        try:
-            data = json.loads(path.read_text(encoding="utf-8"))
-        except UnicodeDecodeError:
-            why = "not UTF-8 text"
-        except ValueError:
-            why = "half-written or not JSON"
-        except OSError as exc:
-            why = f"unreadable: {exc.strerror or exc}"
-        else:
-            attempts = data.get("attempts") if isinstance(data, dict) else None
-            try:
-                if not isinstance(attempts, list):
-                    raise ValueError("no list of attempts")
-                learner.tasks[task] = _record(task, attempts)
-            except (ValueError, TypeError) as exc:
-                why = f"not an attempt log: {exc}"
-        if why:
-            learner.notes.append(f"{name}: task {task}'s log {path.name} could not be read ({why}); left out")
-    return learner
+    made_at = time.time() if now is None else now
+    classify([], made_at, stuck_after)  # checks the option before any file is read
+    room_notes = list(notes or [])
+    found = find_workspaces(list(patterns), room_notes, missing_ok) if patterns else []
+    seen = {_key(w) for w in found}
+    found += [w for w in workspaces if _key(w) not in seen]
+    source = course if course is not None else installed_course()
+    untouched = untouched_versions(source)
+    if not untouched:
+        where = f"in {shown(str(source), 300)}/exercises" if source is not None else "no installed course"
+        room_notes.insert(0, f"the course's exercises as handed out were not found ({where}); a self-check of an "
+                          "untouched exercise counts as a start (give the course with --course)")
+    read = [(w, read_logs(w.name, w.root, w.inside)) for w in sorted(found, key=lambda w: (w.name, str(w.path)))]
+    _leave_out_shared_files(read)
+    learners = []
+    for workspace, logs in read:
+        learner = LearnerReport(workspace.name, workspace.path, notes=logs.notes,
+                                last_activity=last_activity(a for task in logs.attempts.values() for a in task))
+        for task, attempts in sorted(logs.attempts.items()):
+            learner.tasks[task] = classify(attempts, made_at, stuck_after, untouched.get(task, ()))
+        learners.append(learner)
+    return RoomReport(learners, room_notes + [n for lr in learners for n in lr.notes], made_at, stuck_after)
 
 
-def _record(task: int, attempts: list[Any]) -> LearnerTask:
-    record = LearnerTask(task)
-    good = [a for a in attempts if isinstance(a, dict) and isinstance(a.get("time"), int | float)]
-    if len(good) != len(attempts):
-        raise ValueError("an attempt without a time")
-    record.attempts = len(good)
-    for attempt in good:
-        full = bool(attempt.get("max_score")) and attempt.get("score") == attempt.get("max_score")
-        record.times.append((float(attempt["time"]), full))
-        if full and not record.passed:
-            record.passed = True
-            record.time_to_pass_s = round(float(attempt["time"]) - float(good[0]["time"]), 1)
-    if good:
-        last = good[-1]
-        record.points = float(last.get("score", 0.0))
-        record.max_points = float(last.get("max_score", 0.0))
-        given = last.get("reasons")
-        reasons: dict[str, Any] = given if isinstance(given, dict) else {}
-        record.failing = {str(c): str(reasons.get(c, "")) for c in last.get("failed", [])}
-    return record
+def _leave_out_shared_files(read: list[tuple[Workspace, LearnerLogs]]) -> None:
+    """A log that is one file in several workspaces (a hard link between learners who share a Unix user) is no one's
+    own: it is left out for each of them, with a note naming the others."""
+    holders: dict[tuple[int, int], list[tuple[Workspace, LearnerLogs, int]]] = {}
+    for workspace, logs in read:
+        for task, inode in logs.files.items():
+            holders.setdefault(inode, []).append((workspace, logs, task))
+    for shared in (h for h in holders.values() if len(h) > 1):
+        for workspace, logs, task in shared:
+            others = ", ".join(shown(w.name, 40) for w, _, _ in shared if w is not workspace)
+            logs.attempts.pop(task, None)
+            logs.notes.append(f"{shown(workspace.name, 60)}: task {task}'s log task{task:02d}.json is the same file as "
+                              f"a log of {others} (a hard link); left out for each of them")
 
 
-def build_report(patterns: list[str], missing_ok: bool = False) -> RoomReport:
-    """Read every workspace the patterns name (see :func:`find_workspaces`).
-
-    Args:
-        patterns: Workspaces, homes, or globs of them.
-        missing_ok: A home without a workspace (a hub user who never started a server) is a note, not an error.
-    """
-    notes: list[str] = []
-    if missing_ok:
-        kept = []
-        for pattern in patterns:
-            try:
-                find_workspaces([pattern])
-            except CourseError:
-                notes.append(f"{pattern}: no workspace yet (never started a server?)")
-            else:
-                kept.append(pattern)
-        patterns = kept
-    learners = [read_learner(name, path) for name, path in find_workspaces(patterns)] if patterns else []
-    return RoomReport(learners, notes + [note for learner in learners for note in learner.notes])
+def csv_cell(value: object) -> str:
+    """A CSV cell a spreadsheet shows as text: a text starting with ``=``, ``+``, ``-``, ``@``, a tab, a carriage
+    return (OWASP's list, with a line feed, NUL and their full-width forms) gets a leading ``'``; None is empty."""
+    text = "" if value is None else str(value)
+    return f"'{text}" if text.startswith(_FORMULA_START) else text
 
 
-def _progress_png(report: RoomReport) -> bytes:
-    """Tasks passed in the room over the workshop's time (minutes since the first self-check)."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    from matplotlib.figure import Figure
-
-    firsts = sorted(next(t for t, ok in r.times if ok) for lr in report.learners for r in lr.tasks.values()
-                    if r.passed)
-    starts = [t for lr in report.learners for r in lr.tasks.values() for t, _ in r.times]
-    figure = Figure(figsize=(7, 3))
-    axes = figure.subplots()
-    if starts:
-        start = min(starts)
-        minutes = [(t - start) / 60.0 for t in firsts]
-        axes.step([0.0, *minutes], list(range(len(minutes) + 1)), where="post")
-    axes.set_xlabel("minutes since the room's first self-check")
-    axes.set_ylabel("tasks passed (all learners)")
-    axes.grid(True, alpha=0.3)
-    figure.tight_layout()
-    buffer = io.BytesIO()
-    figure.savefig(buffer, format="png", dpi=90)
-    return buffer.getvalue()
+_CSV_COLUMNS = ["learner", "task", "status", "points", "max_points", "attempts", "time_to_pass_s", "first_try",
+                "stuck_on", "failing_checks", "failing_since", "last_check", "learner_last_activity"]
 
 
-def _html(report: RoomReport) -> str:
-    tasks = report.tasks()
-    esc = html.escape
-    head = "".join(f"<th>task {t}</th>" for t in tasks)
-    rows = []
+def _csv_rows(report: RoomReport) -> list[list[object]]:
+    rows: list[list[object]] = []
     for learner in report.learners:
-        cells = []
-        for task in tasks:
-            record = learner.tasks.get(task)
-            if record is None:
-                cells.append('<td class="none">–</td>')
-                continue
-            mark = "passed" if record.passed else "open"
-            when = f", {record.time_to_pass_s:g} s" if record.time_to_pass_s is not None else ""
-            cells.append(f'<td class="{mark}">{record.points:g}/{record.max_points:g}<br>'
-                         f'<small>{record.attempts} check{"s" if record.attempts != 1 else ""}{when}</small></td>')
-        rows.append(f"<tr><th>{esc(learner.name)}</th>{''.join(cells)}</tr>")
-    stuck = "".join(f"<tr><td>{r['task']}</td><td>{esc(r['check'])}</td><td>{r['learners_failing']}</td>"
-                    f"<td>{esc(r['most_common_reason'])}</td></tr>" for r in report.stuck())
-    notes = "".join(f"<li>{esc(n)}</li>" for n in report.notes) or "<li>none</li>"
-    png = base64.b64encode(_progress_png(report)).decode()
-    return f"""<!DOCTYPE html>
-<html lang="en"><head><meta charset="utf-8"><title>rrbot_workshop: the room</title>
-<style>body{{font-family:sans-serif;margin:1.5em}} table{{border-collapse:collapse;margin-bottom:1.5em}}
-td,th{{border:1px solid #ccc;padding:.3em .6em;text-align:center}} td.passed{{background:#d9f2d9}}
-td.open{{background:#fdf0d5}} td.none{{color:#999}}</style></head><body>
-<h1>The room: {len(report.learners)} learner{"s" if len(report.learners) != 1 else ""}</h1>
-<h2>Learners × tasks (points of the latest self-check; checks run, time to pass)</h2>
-<table><tr><th>learner</th>{head}</tr>{''.join(rows)}</table>
-<h2>Where the room is stuck (checks failing now)</h2>
-<table><tr><th>task</th><th>check</th><th>learners</th><th>most common reason</th></tr>{stuck}</table>
-<h2>Progress over the workshop</h2><img alt="tasks passed over time" src="data:image/png;base64,{png}">
-<h2>Notes</h2><ul>{notes}</ul></body></html>
-"""
+        for task in report.tasks():
+            s = learner.state(task)
+            since = min(s.failing_since.values(), default=None)
+            rows.append([learner.name, task, s.status, s.points, s.max_points, s.attempts, s.time_to_pass_s,
+                         s.first_try, " ".join(s.stuck_on), " ".join(sorted(s.failing)), local_time(since),
+                         local_time(s.last_check), local_time(learner.last_activity)])
+    return rows
 
 
 def write_report(report: RoomReport, out: Path) -> list[Path]:
-    """Write ``report.json``, ``report.csv`` (one row per learner and task) and ``report.html`` into ``out``.
+    """Write ``report.json``, ``report.csv`` (one row per learner and task, every cell quoted and formula-safe, see
+    :func:`csv_cell`) and ``report.html`` into ``out``.
 
     Raises:
         CourseError: If ``out`` is a file or cannot be written.
     """
-    if out.exists() and not out.is_dir():
+    if os.path.lexists(out) and not out.is_dir():
         raise CourseError("--out", str(out), "is a file; give a folder for report.json, report.csv and report.html")
     paths = [out / "report.json", out / "report.csv", out / "report.html"]
     try:
         out.mkdir(parents=True, exist_ok=True)
         paths[0].write_text(json.dumps(report.to_dict(), indent=1) + "\n", encoding="utf-8")
         with paths[1].open("w", newline="", encoding="utf-8") as handle:
-            writer = csv.writer(handle)
-            writer.writerow(["learner", "task", "passed", "points", "max_points", "attempts", "time_to_pass_s",
-                             "failing_checks"])
-            for learner in report.learners:
-                for task, record in sorted(learner.tasks.items()):
-                    writer.writerow([learner.name, task, record.passed, record.points, record.max_points,
-                                     record.attempts, "" if record.time_to_pass_s is None else record.time_to_pass_s,
-                                     " ".join(sorted(record.failing))])
-        paths[2].write_text(_html(report), encoding="utf-8")
+            writer = csv.writer(handle, quoting=csv.QUOTE_ALL)
+            writer.writerow(_CSV_COLUMNS)
+            writer.writerows([csv_cell(v) for v in row] for row in _csv_rows(report))
+        paths[2].write_text(render_html(report), encoding="utf-8")
     except OSError as exc:
         raise CourseError("--out", str(out), f"cannot be written ({exc.strerror or exc})") from None
     return paths

@@ -8,7 +8,8 @@ commanded and measured positions, cycle by cycle.
 
 :func:`reveal` is what notebook 14 calls: it shows a fault's outcome, its timeline and why it happens only once the
 learner has written a complete prediction for it, and grades that prediction first. So the notebook stores no outcome
-before the learner has predicted.
+before the learner has predicted; and the prediction is sealed before the outcome is shown, so copying the outcome
+into ``predictions.py`` afterwards earns nothing.
 
 The faults (:data:`FAULTS`):
 
@@ -338,12 +339,23 @@ def plot_timeline(outcome: Outcome, title: str = "") -> Any:
     return fig
 
 
+def _file_predictions() -> Any:
+    """``PREDICTIONS`` of task 14's ``predictions.py`` on the current track, read afresh (None if it does not load)."""
+    from rrbot_workshop.course.learner import load_module
+
+    module = load_module(14, "predictions.py", quiet=True)
+    return getattr(module, "PREDICTIONS", None) if module is not None else None
+
+
 def reveal(name: str, predictions: dict[str, Any] | None = None) -> Any:
     """Run fault ``name`` and show what happened and why, once the learner has predicted it.
 
     The learner's prediction (``predictions``, or ``PREDICTIONS`` read afresh from task 14's ``predictions.py``) is
     graded first: right or wrong, part by part, with what really happened. Then come the timeline, the explanation
     and the lifecycle diagram. An incomplete prediction shows nothing of the outcome: it says what is still to write.
+    Before anything of the outcome is shown, the prediction of ``name`` in ``predictions.py`` is sealed as it is
+    (:func:`rrbot_workshop.course.grading.sealed.seal`): the self-check grades that one, and a change made after it
+    earns nothing.
 
     Returns:
         The lifecycle diagram after the fault (the notebook displays it), or ``None`` when nothing was run.
@@ -353,22 +365,29 @@ def reveal(name: str, predictions: dict[str, Any] | None = None) -> Any:
     """
     import matplotlib.pyplot as plt
 
+    from rrbot_workshop.course.grading import sealed
+
     if name not in FAULTS:
         raise ValueError(f"unknown fault {name!r}; the faults are {list(FAULTS)}")
+    in_file = _file_predictions()
     if predictions is None:
-        from rrbot_workshop.course.learner import load_module
-
-        module = load_module(14, "predictions.py")
-        predictions = getattr(module, "PREDICTIONS", None) if module is not None else None
-        if not isinstance(predictions, dict):
+        if not isinstance(in_file, dict):
             print("predictions.py does not define PREDICTIONS yet: write your predictions there first.")
             return None
+        predictions = in_file
     gaps = missing(predictions.get(name))
     if gaps:
         what = "is not written yet" if len(gaps) == 5 else f"still lacks {', '.join(gaps)}"
         print(f"Predict '{name}' first: PREDICTIONS['{name}'] in predictions.py {what}. Save the file and run this cell "
               "again: the outcome, and why it happens, are shown once you have predicted it.")
         return None
+    if sealed.seal(14, in_file if isinstance(in_file, dict) else None, [name]):
+        print(f"Your prediction of '{name}' is sealed as it is now: the self-check grades this one, and a change made "
+              "after the outcome below earns nothing.")
+    else:
+        changed = sealed.changed_since_sealed(14, name, predictions.get(name), notebook="this notebook")
+        if changed:
+            print(changed + ".")
     outcome = run_fault(name)
     states = compare(predictions[name], outcome, part="states")
     joints = compare(predictions[name], outcome, part="joints")

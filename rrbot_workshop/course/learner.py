@@ -10,6 +10,7 @@ failure into one short, readable message instead of a traceback through the libr
     system = rw.course.run(start_rrbot, robot_controller="forward_position_controller")  # None if it fails
     xacro = rw.course.mine_or_reference(1, "rrbot_description/urdf/rrbot.urdf.xacro",
                                         "rrbot/urdf/rrbot.urdf.xacro", check=problem_of, what="description")
+    rw.course.step("configure", harness.configure)   # "configure: ..." and, if it raised, where in your file
 
 Each load re-reads the file from disk, so a learner edits, saves and re-runs the cell.
 """
@@ -30,7 +31,7 @@ from rrbot_workshop.course.tracks import short_error, shown
 
 _log = logging.getLogger(__name__)
 
-__all__ = ["task_file", "shown", "load_module", "function", "ask", "short_error", "mine_or_reference", "run"]
+__all__ = ["task_file", "shown", "load_module", "function", "ask", "short_error", "mine_or_reference", "run", "step"]
 
 #: The tag of a TODO message (``TODO(task 3.1)``): enough to find it in the file, without its hint.
 _TODO = re.compile(r"TODO\(task [0-9.]+\)")
@@ -90,8 +91,9 @@ def ask(
 ) -> Any:
     """Call the learner's ``question(*args)`` from ``module`` and print the answer; never raises.
 
-    ``NotImplementedError`` reads "not written yet"; any other exception one short line. Returns the answer,
-    or ``default`` when there is none. ``label`` names the question in the printed line (default its name).
+    ``NotImplementedError`` reads "not written yet"; any other exception one short line that names the learner's
+    file, line, function and exception. Returns the answer, or ``default`` when there is none. ``label`` names the
+    question in the printed line (default its name).
     """
     if module is None:
         if show:
@@ -112,11 +114,20 @@ def ask(
     except Exception as exc:  # noqa: BLE001 - a half-written answer must not stop the notebook
         path = Path(module.__file__) if module.__file__ else None
         if show:
-            print(f"{label or question}: raised {short_error(exc, path)}")
+            where = _where(exc)
+            print(f"{label or question}: {where}" if where else f"{label or question}: raised {short_error(exc, path)}")
         return default
     if show:
         print(f"{label or question}:", pprint.pformat(answer, compact=True, width=110))
     return answer
+
+
+def _where(exc: BaseException) -> str:
+    """``"your <file>, line N, in <function>: <Type>: <message>"`` when ``exc`` passed through the learner's files,
+    else ``""``."""
+    from rrbot_workshop.course.grading.learner_errors import learner_location, learner_root
+
+    return learner_location(exc, learner_root()) or ""
 
 
 def _shown(path: Path) -> str:
@@ -211,7 +222,7 @@ def run(
         todo = _TODO.search(str(exc))
         problem = "not written yet" + (f": {todo.group(0) if todo else exc}" if str(exc) else "")
     except Exception as exc:  # noqa: BLE001 - the learner's code may fail in any way while being written
-        problem = short_error(exc, path)
+        problem = _where(exc) or short_error(exc, path)
     if not problem:
         return result
     for system in systems().values():
@@ -219,3 +230,44 @@ def run(
             system.shutdown()
     print(f"Your {label} does not run yet ({problem})" + (f"; this notebook uses {instead} instead." if instead else "."))
     return None
+
+
+def step(label: str, call: Callable[[], Any]) -> Any:
+    """Run one step of the learner's code for a notebook cell and say in a line what came of it; never raises.
+
+    The line is the step's result (``done`` for ``None``), with the last error the library logged in brackets (what it
+    did: "on_configure ... did not succeed"); then, when the learner's code raised, whether the library caught it or it
+    came through, where: ``Your code raised: your displacement_controller.py, line 77, in on_configure: KeyError: ...``
+    (see :class:`~rrbot_workshop.course.tracebacks.LearnerErrors`).
+
+    Args:
+        label: What the step is, at the start of the line (``"configure"``).
+        call: The step, without arguments (``harness.configure``, ``lambda: ...``).
+
+    Returns:
+        The result, ``True`` for a step that returned ``None``, or ``None`` when it raised.
+    """
+    from rrbot_workshop.course.tracebacks import LearnerErrors
+
+    outcome = ""
+    result: Any = None
+    with LearnerErrors() as errors:
+        try:
+            result = call()
+        except NotImplementedError as exc:
+            todo = _TODO.search(str(exc))
+            where = _where(exc).split(": NotImplementedError", 1)[0]
+            outcome = "not written yet" + (f" ({todo.group(0) if todo else exc})" if str(exc) else "") + (
+                f": {where}" if where else "")
+        except Exception as exc:  # noqa: BLE001 - the learner's half-written code must not stop the notebook
+            outcome = f"raised {type(exc).__name__}"
+            errors.note(exc)
+    if not outcome:
+        shown_result = pprint.pformat(result, compact=True, width=110) if isinstance(
+            result, list | tuple | dict | set) else str(result)
+        outcome = "done" if result is None else shown_result
+    print(f"{label}: {outcome}" + (f" ({errors.reason})" if errors.reason else ""))
+    errors.report()
+    if outcome.startswith(("not written yet", "raised ")):
+        return None
+    return True if result is None else result

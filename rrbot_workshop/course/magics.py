@@ -13,6 +13,9 @@ or on ``--system <name>``::
     %control load_controller my_controller my_params.yaml --set-state active
     %control -c /rrbot_1/controller_manager list_controllers
 
+The cell magic ``%%pytest --against SPEC [SPEC ...]`` runs the cell's pytest tests once per controller named (see
+:func:`rrbot_workshop.course.controller_tests.pytest_cell`).
+
 Output is printed (this is the one module whose job is printing); bad input prints an error line
 naming what was wrong and what is valid, and never raises into the notebook.
 """
@@ -396,9 +399,12 @@ def topic(line: str) -> None:
 
 
 def load_ipython_extension(ipython: Any) -> None:
-    """Register ``%control`` and ``%topic``, and short tracebacks for library errors, in an IPython shell."""
+    """Register ``%control``, ``%topic`` and ``%%pytest`` (see :func:`rrbot_workshop.course.controller_tests.pytest_cell`),
+    and short tracebacks for library errors, in an IPython shell."""
+    from rrbot_workshop.course.controller_tests import pytest_cell
     from rrbot_workshop.course.tracebacks import register
 
     ipython.register_magic_function(control, "line", "control")
     ipython.register_magic_function(topic, "line", "topic")
+    ipython.register_magic_function(pytest_cell, "cell", "pytest")
     register(ipython)

@@ -22,8 +22,15 @@ second without running the robot (:func:`export_problems`): the xacro declares t
 hands it (``use_mock_hardware``, ``mock_sensor_commands``) and expands with both values of the switch; with
 ``use_mock_hardware:=true`` every ``<ros2_control>`` tag names ``mock_components/GenericSystem``; the controllers
 YAML loads, declares at least one robot controller (the launch argument ``robot_controller`` needs a choice) and
-lints with no error against the expanded description; every controller name is a ROS node name; and no plugin
-exists only in this library. An export that is not ready is refused with every problem, and writes nothing.
+lints with no error against the expanded description; and no plugin exists only in this library. An export that is
+not ready is refused with every problem, and writes nothing.
+
+**Names.** Every name that reaches a generated file must be one ROS takes: each controller name a node name, each
+plugin (the hardware plugin the description names, each controller type) of pluginlib's ``<package>/<Class>`` form,
+and each package found by the description (``$(find pkg)``, ``package://pkg``) a package name (REP 144). A name that
+is not is refused in one line naming the file and the name, before anything is written. ``package.xml`` is then built
+with :mod:`xml.etree.ElementTree` (every value escaped by the library) and read back to check that it holds no
+processing instruction or comment; the launch file holds names only as Python literals (``repr``) and is parsed.
 
 **Manifests.** The ``exec_depend`` lists are derived from the files: the packages the generated launch file uses
 (its ``Node(package=...)``, ``FindPackageShare``, ``FindExecutable``, the ``launch`` modules it imports, and
@@ -50,6 +57,8 @@ from rrbot_workshop.exceptions import CourseError, DescriptionError, ParameterEr
 from rrbot_workshop.middleware.names import NODE_NAME_RULE, node_name_problem
 from rrbot_workshop.middleware.params import load_controllers_yaml
 from rrbot_workshop.tools.ros2_package import (
+    PACKAGE_NAME_RULE,
+    PLUGIN_NAME_RULE,
     Created,
     check_generated,
     check_target,
@@ -58,7 +67,9 @@ from rrbot_workshop.tools.ros2_package import (
     launch_argument_problem,
     launch_file,
     launch_packages,
+    package_name_problem,
     package_xml,
+    plugin_name_problem,
 )
 
 __all__ = ["Ros2Export", "ExportSource", "export_sources", "export_problems", "export_ros2", "launch_argument_problem"]
@@ -212,6 +223,7 @@ class _Plan:
     """What checking a source found out: its problems, and what the packages need."""
 
     problems: list[str] = field(default_factory=list)
+    invalid_names: list[str] = field(default_factory=list)
     robot_controllers: list[str] = field(default_factory=list)
     broadcasters: list[str] = field(default_factory=list)
     plugin_packages: list[str] = field(default_factory=list)
@@ -227,6 +239,9 @@ def _declared_xacro_args(xacro: Path) -> set[str] | None:
 
 
 def _plugin(plan: _Plan, type_name: str, where: str) -> None:
+    if plugin_name_problem(type_name):
+        plan.invalid_names.append(f"{where} names {_shown_name(type_name)}, not a plugin name")
+        return
     prefix = type_name.split("/", 1)[0]
     if prefix in _LIBRARY_ONLY:
         plan.problems.append(f"{where} names '{type_name}', which exists only in this library: ROS 2 has no such "
@@ -273,21 +288,30 @@ def _check(source: ExportSource) -> _Plan:
             plugin = info.hardware_plugin_name or ""
             if mock == "true" and plugin != _MOCK:
                 plan.problems.append(f"{shown_xacro}: with use_mock_hardware:=true, <ros2_control name="
-                                     f"'{info.name}'> names '{plugin or 'no plugin'}', not {_MOCK}: the switch is "
-                                     "not finished")
+                                     f"{_shown_name(info.name)}> names {_shown_name(plugin or 'no plugin')}, not "
+                                     f"{_MOCK}: the switch is not finished")
             elif plugin:
-                _plugin(plan, plugin, f"{shown_xacro} (<ros2_control name='{info.name}'>)")
+                _plugin(plan, plugin, f"{shown_xacro} (<ros2_control name={_shown_name(info.name)}>)")
     try:
         config = load_controllers_yaml(source.controllers)
     except ParameterError as exc:
-        plan.problems.append(f"{shown_yaml} does not load: {exc}")
+        if exc.parameter == "type" or exc.parameter.endswith(".type"):  # a controller type that is no plugin name
+            where = exc.parameter if exc.parameter != "type" else f"{exc.owner}.type"
+            plan.invalid_names.append(f"{shown_yaml}: {_shown_name(where)} is not a plugin name")
+        else:
+            plan.problems.append(f"{shown_yaml} does not load: {exc}")
         return plan
     for name, type_name in config.controller_types.items():
         problem = node_name_problem(name)
         if problem:
-            plan.problems.append(f"{shown_yaml}: controller name {name!r} is not a valid ROS node name: {problem}; "
-                                 f"{NODE_NAME_RULE}. Rename it")
+            plan.invalid_names.append(f"{shown_yaml}: controller name {_shown_name(name)} is not a valid ROS node "
+                                      f"name ({problem})")
+            continue
         _plugin(plan, type_name, f"{shown_yaml} (controller '{name}')")
+    for package in description_packages(sorted(p for p in source.urdf.rglob("*") if p.is_file()), ""):
+        if package_name_problem(package):
+            plan.invalid_names.append(f"{source.shown}/{_DESCRIPTION.as_posix()} finds package "
+                                      f"{_shown_name(package)} ($(find ...) or package://), not a ROS package name")
     plan.broadcasters = [n for n, t in config.controller_types.items() if t.endswith(_BROADCASTER_SUFFIXES)]
     plan.robot_controllers = [n for n in config.controller_types if n not in plan.broadcasters]
     if not plan.robot_controllers:
@@ -306,9 +330,11 @@ def _check(source: ExportSource) -> _Plan:
 def export_problems(source: ExportSource) -> list[str]:
     """Why ``source`` is not ready to export, one sentence per problem naming the file; empty when it is ready.
 
-    Checked without running anything (about a second): see the module's documentation for the list.
+    Checked without running anything (about a second): see the module's documentation for the list (names ROS
+    would not take come first).
     """
-    return _check(source).problems
+    plan = _check(source)
+    return plan.invalid_names + plan.problems
 
 
 def _choose(task: int | None) -> tuple[ExportSource, _Plan, list[int]]:
@@ -328,15 +354,34 @@ def _choose(task: int | None) -> tuple[ExportSource, _Plan, list[int]]:
             raise CourseError("task", task, f"task {task} has no description and bringup to export; nothing was "
                               "written", [s.task for s in sources])
         plan = _check(chosen[0])
+        if plan.invalid_names:
+            raise CourseError("task", task, _refused_names([plan]))
         if plan.problems:
             raise CourseError("task", task, _not_ready([(chosen[0], plan)], chosen=True, tasks=[s.task for s in sources]))
         return chosen[0], plan, [task]
     plans = [(s, _check(s)) for s in sources]
-    ready = [(s, p) for s, p in plans if not p.problems]
+    ready = [(s, p) for s, p in plans if not p.problems and not p.invalid_names]
+    if not ready and any(p.invalid_names for _, p in plans):
+        raise CourseError("task", None, _refused_names([p for _, p in plans]))
     if not ready:
         raise CourseError("task", None, _not_ready(list(reversed(plans)), chosen=False, tasks=[s.task for s in sources]))
     source, plan = ready[-1]
     return source, plan, [s.task for s, _ in ready]
+
+
+def _shown_name(name: object, limit: int = 60) -> str:
+    """A name from a learner's file as it goes into a message: quoted, escaped (no line break or control character
+    reaches the terminal) and cut to ``limit`` characters."""
+    text = repr(str(name))
+    return text if len(text) <= limit else text[: limit - 4] + "...'"
+
+
+def _refused_names(plans: list[_Plan]) -> str:
+    """One line: every name that is not what ROS takes, and the rules they break."""
+    names = [n for plan in plans for n in plan.invalid_names]
+    rules = [rule for word, rule in (("plugin name", PLUGIN_NAME_RULE), ("node name", NODE_NAME_RULE),
+                                     ("package name", PACKAGE_NAME_RULE)) if any(word in n for n in names)]
+    return f"export refused, nothing was written: {'; '.join(names)}. Rules: {'; '.join(rules)}"
 
 
 def _not_ready(plans: list[tuple[ExportSource, _Plan]], *, chosen: bool, tasks: list[int]) -> str:
@@ -378,8 +423,9 @@ def export_ros2(target: str | Path, *, force: bool = False, task: int | None = N
 
     Raises:
         CourseError: If ``target`` is empty, a file, not writable or a non-empty folder (and not ``force``); no task
-            has files to export, or ``task`` has none; the chosen task's files are not ready (every problem is
-            listed, see :func:`export_problems`); or writing fails.
+            has files to export, or ``task`` has none; a name in the chosen task's files is not one ROS takes (one
+            line, see the module's documentation); the chosen task's files are not ready (every problem is listed,
+            see :func:`export_problems`); or writing fails.
     """
     root = check_target(target)
     if root.is_dir() and any(root.iterdir()) and not force:
@@ -412,6 +458,11 @@ def export_ros2(target: str | Path, *, force: bool = False, task: int | None = N
             references.append(f"`python_reference/{dst.relative_to(root / 'python_reference').as_posix()}`{note}")
 
     launch = launch_file(source.controllers.name, plan.robot_controllers, plan.broadcasters)
+    # checked again where the names are written: none reaches a manifest unless ROS takes it
+    refused = [_shown_name(d) for d in [*plan.plugin_packages, *description_packages(urdf_files, "")] if package_name_problem(d)]
+    if refused:
+        raise CourseError("task", source.task, f"export refused, nothing was written: {', '.join(refused)} would be "
+                          f"written as package dependencies; {PACKAGE_NAME_RULE}")
     result.exec_depends = {
         "controlko_description": description_packages(urdf_files, "controlko_description"),
         "controlko_bringup": sorted((set(launch_packages(launch)) | set(plan.plugin_packages)) - {"controlko_bringup"}),

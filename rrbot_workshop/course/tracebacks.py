@@ -14,6 +14,10 @@ logged (an ``on_configure`` that raised, so the switch that needed it was refuse
 the learner's file, line, function and exception, before what the library did because of it.
 
 Any other exception keeps IPython's usual traceback.
+
+A cell that runs the learner's code and goes on whatever happens (a ``write`` that raises is caught, as ros2_control
+does, and the component taken out) raises nothing for IPython to show: :class:`LearnerErrors` keeps, within a block,
+what the learner's code raised and the library caught, and says it in one line each (file, line, function, exception).
 """
 
 from __future__ import annotations
@@ -29,7 +33,8 @@ from typing import Any
 from rrbot_workshop.exceptions import RRBotWorkshopError
 from rrbot_workshop.middleware.compiled import FILENAME_PREFIX
 
-__all__ = ["is_learner_frame", "CellErrors", "CELL_ERRORS", "short_traceback_lines", "short_traceback", "register"]
+__all__ = ["is_learner_frame", "CellErrors", "CELL_ERRORS", "LearnerErrors", "short_traceback_lines", "short_traceback",
+           "register"]
 
 _PACKAGE_DIR = Path(__file__).resolve().parent.parent
 
@@ -107,6 +112,81 @@ class CellErrors(logging.Handler):
 
 #: The handler :func:`register` installs on the root logger.
 CELL_ERRORS = CellErrors()
+
+
+class LearnerErrors:
+    """Within a ``with`` block, the exceptions of the learner's code that the library caught and logged, or that left
+    the block, each as ``"your <file>, line N, in <function>: <Type>: <message>"``.
+
+    The library's own log lines (and their tracebacks) are kept out of the cell while the block runs; the learner reads
+    :meth:`report` instead. An exception that leaves the block is noted and goes on.
+
+    Example:
+        >>> with LearnerErrors() as errors:  # doctest: +SKIP
+        ...     system.spin(5.0)
+        >>> errors.report()  # doctest: +SKIP
+        Your code raised: your my_robot_hardware.py, line 80, in write: ValueError: no limiter for joint3
+
+    Attributes:
+        found: The learner's exceptions, first first.
+        reason: The last error the library logged (its own words: what it did about the exception), or ``""``.
+    """
+
+    #: The library's logger, whose records the block keeps.
+    LOGGER = "rrbot_workshop"
+
+    def __init__(self) -> None:
+        from rrbot_workshop.course.grading.learner_errors import LearnerErrorLog, learner_root
+
+        self._log = LearnerErrorLog(learner_root())
+        self.found: list[str] = self._log.found
+        self.reason = ""
+        self._saved: tuple[int, bool] | None = None
+
+    def _keep_reason(self, record: logging.LogRecord) -> bool:
+        if record.levelno >= logging.ERROR:
+            self.reason = record.getMessage().strip().splitlines()[-1] if record.getMessage().strip() else ""
+        return True
+
+    def __enter__(self) -> LearnerErrors:
+        logger = logging.getLogger(self.LOGGER)
+        self._saved = (logger.level, logger.propagate)
+        logger.setLevel(min(logger.getEffectiveLevel(), logging.ERROR))
+        logger.propagate = False
+        self._log.addFilter(self._keep_reason)
+        logger.addHandler(self._log)
+        return self
+
+    def note(self, exc: BaseException) -> None:
+        """Keep ``exc`` if it passed through the learner's code (for an exception caught inside the block)."""
+        from rrbot_workshop.course.grading.learner_errors import learner_location
+
+        where = learner_location(exc, self._log.root)
+        if where is not None and where not in self.found:
+            self.found.append(where)
+
+    def __exit__(self, exc_type: Any, exc: BaseException | None, tb: Any) -> None:
+        logger = logging.getLogger(self.LOGGER)
+        logger.removeHandler(self._log)
+        if self._saved is not None:
+            logger.setLevel(self._saved[0])
+            logger.propagate = self._saved[1]
+        if exc is not None:
+            self.note(exc)
+
+    def lines(self) -> list[str]:
+        """One line per exception of the learner's code (the first, and how many followed), or ``[]``."""
+        if not self.found:
+            return []
+        more = len(self.found) - 1
+        return [f"Your code raised: {self.found[0]}"] + (
+            [f"  (and {more} more exception{'s' if more > 1 else ''} from your code after it)"] if more else [])
+
+    def report(self) -> bool:
+        """Print :meth:`lines`; True if the learner's code raised."""
+        for line in self.lines():
+            print(line)
+        return bool(self.found)
 
 
 def short_traceback_lines(value: BaseException, tb: TracebackType | None, shell: Any = None) -> list[str]:

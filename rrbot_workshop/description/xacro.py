@@ -13,13 +13,20 @@ The ``xacro`` package does the work. Two of its habits need care outside ROS:
 
 Xacro keeps module-level state (file stack, verbosity, substitution arguments); a lock serialises calls and every
 piece of state we touch is restored afterwards.
+
+An expansion is kept for the rest of the process with everything it read (the contents of every file, the folders
+``$(find)`` gave, wildcard matches, environment variables; :mod:`rrbot_workshop.description.xacro_cache`): the same
+file with the same arguments is expanded again only when one of them changed.
 """
 
 from __future__ import annotations
 
+import errno
+import io
 import logging
 import os
 import re
+import stat
 import threading
 import xml.parsers.expat
 from collections.abc import Iterator
@@ -30,6 +37,7 @@ from typing import Any
 import xacro
 import xacro.substitution_args as _subst
 
+from rrbot_workshop.description import xacro_cache
 from rrbot_workshop.description.packages import descriptions_root
 from rrbot_workshop.exceptions import DescriptionError
 
@@ -38,6 +46,8 @@ __all__ = ["descriptions_root", "process_xacro", "resolve_package_uri", "availab
 logger = logging.getLogger(__name__)
 
 _LOCK = threading.RLock()
+#: What the expansion running now reads (set inside :func:`_xacro_sandbox`, under :data:`_LOCK`).
+_RECORDER: xacro_cache.Recorder | None = None
 
 
 def available_packages() -> list[str]:
@@ -103,29 +113,90 @@ def _mapping_value(value: Any) -> str:
     return str(value)
 
 
+def _open_regular(file: Any, mode: str = "r", *args: Any, **kwargs: Any) -> Any:
+    """``open`` for xacro: a file read (the description, an include, a YAML file) must be a regular file, so a FIFO
+    or a device named by a description never blocks or floods the expansion."""
+    if isinstance(file, int) or any(c in mode for c in "wax+"):
+        return open(file, mode, *args, **kwargs)  # noqa: SIM115 - xacro closes what it opens
+    fd = os.open(file, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
+    try:
+        if not stat.S_ISREG(os.fstat(fd).st_mode):
+            raise OSError(errno.EINVAL, "not a regular file (a FIFO, a device or a folder)", str(file))
+        os.set_blocking(fd, True)
+        if _RECORDER is None:
+            return open(fd, mode, *args, **kwargs)  # noqa: SIM115 - xacro closes what it opens
+        with open(fd, "rb", closefd=False) as raw:
+            data = raw.read()
+        os.close(fd)
+    except BaseException:
+        os.close(fd)
+        raise
+    _RECORDER.read(str(file), data)  # the bytes xacro gets are the bytes whose digest is kept
+    if "b" in mode:
+        return io.BytesIO(data)
+    return io.TextIOWrapper(io.BytesIO(data), encoding=kwargs.get("encoding"), errors=kwargs.get("errors"),
+                            newline=kwargs.get("newline"))
+
+
+def _share_directory(pkg: str) -> str:
+    from rrbot_workshop.description.packages import share_directory
+
+    return str(share_directory(pkg))
+
+
 @contextmanager
-def _xacro_sandbox() -> Iterator[None]:
-    """Redirect ``$(find)`` to :func:`find_package` and restore every xacro global afterwards."""
+def _xacro_sandbox(recorder: xacro_cache.Recorder | None = None) -> Iterator[None]:
+    """Redirect ``$(find)`` to :func:`find_package` and restore every xacro global afterwards; with a ``recorder``,
+    note everything the expansion reads (files, packages, wildcard matches, environment variables)."""
+    global _RECORDER
+
+    found: dict[str, str] = {}  # one share folder per package for the whole run, as a sourced workspace gives
 
     def _eval_find(pkg: str) -> str:
-        from rrbot_workshop.description.packages import share_directory
+        folder = found[pkg] = found.get(pkg) or _share_directory(pkg)
+        if recorder is not None:
+            recorder.finds[pkg] = folder
+        return folder
 
-        return str(share_directory(pkg))
+    def _eval_env(name: str) -> str:
+        if recorder is not None:
+            recorder.env[name] = os.environ.get(name)
+        return saved_env(name)
+
+    def _eval_optenv(name: str, default: str = "") -> str:
+        if recorder is not None:
+            recorder.env[name] = os.environ.get(name)
+        return saved_optenv(name, default)
 
     saved_find = _subst._eval_find
-    saved_eval_find = _subst._eval_dict.get("find")
+    saved_env, saved_optenv = _subst._eval_env, _subst._eval_optenv
+    saved_dict = {key: _subst._eval_dict.get(key) for key in ("find", "env", "optenv")}
     saved_verbosity = xacro.verbosity
     saved_includes = list(xacro.all_includes)
     saved_filestack = xacro.filestack
     saved_macrostack = xacro.macrostack
     with _LOCK:
         _subst._eval_find = _eval_find  # type: ignore[assignment]
-        _subst._eval_dict["find"] = _eval_find
+        _subst._eval_env, _subst._eval_optenv = _eval_env, _eval_optenv  # type: ignore[assignment]
+        _subst._eval_dict.update(find=_eval_find, env=_eval_env, optenv=_eval_optenv)
+        saved_open = vars(xacro).get("open")
+        saved_glob = xacro.glob
+        xacro.open = _open_regular  # type: ignore[attr-defined]  # shadows the builtin in xacro's module only
+        if recorder is not None:
+            xacro.glob = recorder  # type: ignore[assignment]  # xacro calls glob.glob for wildcard includes
+        _RECORDER = recorder
         try:
             yield
         finally:
+            _RECORDER = None
+            xacro.glob = saved_glob
+            if saved_open is None:
+                vars(xacro).pop("open", None)
+            else:
+                xacro.open = saved_open  # type: ignore[attr-defined]
             _subst._eval_find = saved_find  # type: ignore[assignment]
-            _subst._eval_dict["find"] = saved_eval_find
+            _subst._eval_env, _subst._eval_optenv = saved_env, saved_optenv  # type: ignore[assignment]
+            _subst._eval_dict.update(saved_dict)
             xacro.verbosity = saved_verbosity
             xacro.all_includes[:] = saved_includes
             xacro.filestack = saved_filestack
@@ -253,11 +324,18 @@ def process_xacro(path: str | Path, **mappings: Any) -> str:
         raise DescriptionError(f"xacro file not found{hint}", source=str(file))
     file = file.resolve()
     str_mappings = {str(k): _mapping_value(v) for k, v in mappings.items()}
-    with _xacro_sandbox():
-        try:
-            doc = xacro.process_file(str(file), mappings=str_mappings, verbosity=0)
-        except Exception as err:  # noqa: BLE001 - xacro raises many types; all become DescriptionError
-            raise _as_description_error(err, file) from err
-        text = doc.toprettyxml(indent="  ")
+    with _LOCK:
+        kept = xacro_cache.EXPANSIONS.get(file, str_mappings, _share_directory)
+        if kept is not None:
+            logger.debug("%s with %s: unchanged since its last expansion", file, str_mappings)
+            return kept
+        recorder = xacro_cache.Recorder()
+        with _xacro_sandbox(recorder):
+            try:
+                doc = xacro.process_file(str(file), mappings=str_mappings, verbosity=0)
+            except Exception as err:  # noqa: BLE001 - xacro raises many types; all become DescriptionError
+                raise _as_description_error(err, file) from err
+            text = doc.toprettyxml(indent="  ")
+        xacro_cache.EXPANSIONS.put(file, str_mappings, text, recorder)
     logger.debug("processed %s with %s", file, str_mappings)
     return text

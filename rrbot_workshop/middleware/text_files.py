@@ -10,6 +10,8 @@ from __future__ import annotations
 
 import contextlib
 import gc
+import os
+import stat
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
@@ -30,12 +32,19 @@ def read_text(path: str | Path) -> tuple[str, str]:
     """
     try:
         p = Path(path)
-        size = p.stat().st_size
         if p.is_dir():
             return "", "is a folder, not a file"
-        if size > MAX_BYTES:
-            return "", f"is {size} bytes, more than the {MAX_BYTES} a course file may have"
-        data = p.read_bytes()
+        # opened without blocking and checked once open: a FIFO or a device is never read (it would block or never end)
+        fd = os.open(p, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
+        with os.fdopen(fd, "rb") as file:
+            info = os.fstat(fd)
+            if not stat.S_ISREG(info.st_mode):
+                return "", "is not a regular file (a FIFO, a device or a socket); give the file itself"
+            if info.st_size > MAX_BYTES:
+                return "", f"is {info.st_size} bytes, more than the {MAX_BYTES} a course file may have"
+            data = file.read(MAX_BYTES + 1)
+        if len(data) > MAX_BYTES:
+            return "", f"is more than the {MAX_BYTES} bytes a course file may have"
     except (OSError, ValueError) as exc:  # ValueError: a NUL in the path
         return "", f"cannot be read: {getattr(exc, 'strerror', None) or exc}"
     if b"\x00" in data:

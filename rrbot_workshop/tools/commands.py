@@ -7,7 +7,9 @@ from __future__ import annotations
 
 import argparse
 import math
+import os
 import re
+import stat
 import sys
 from collections.abc import Callable, Sequence
 from pathlib import Path
@@ -15,12 +17,16 @@ from typing import Any
 
 from rrbot_workshop.exceptions import CourseError, RRBotWorkshopError
 
-__all__ = ["add_commands", "LINT_ERRORS", "USAGE_ERROR"]
+__all__ = ["add_commands", "LINT_ERRORS", "USAGE_ERROR", "BRINGUP_MAX_SECONDS", "BRINGUP_MAX_CYCLES"]
 
 #: Exit status of ``lint`` when it found at least one error (warnings alone exit 0).
 LINT_ERRORS = 1
 #: Exit status of a command given a file or value it cannot use.
 USAGE_ERROR = 2
+#: The longest ``bringup --seconds`` [s of simulated time], and the most control cycles it may run (seconds times the
+#: controller manager's update rate): the work of one command stays bounded whatever the YAML's update_rate says.
+BRINGUP_MAX_SECONDS = 3600.0
+BRINGUP_MAX_CYCLES = 1_000_000
 
 _XACRO_ARG_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
 
@@ -50,7 +56,8 @@ def _add_bringup_parser(sub: Any) -> None:
     up = sub.add_parser("bringup", help="bring a robot up on the simulated clock, spawn controllers, spin, and print "
                                         "its hardware, controllers and joint states")
     up.add_argument("description", metavar="DESCRIPTION",
-                    help="a .urdf/.xacro file, package://pkg/path, $(find pkg)/path, or a package name")
+                    help="a .urdf/.xacro file, package://pkg/path, $(find pkg)/path, or a package name (files are "
+                         "read only if they are regular files: never a FIFO or a device)")
     up.add_argument("--controllers", metavar="YAML",
                     help="controllers YAML: a path, package://pkg/path, $(find pkg)/path or a file name in the "
                          "description package's config/")
@@ -71,7 +78,8 @@ def _add_bringup_parser(sub: Any) -> None:
     up.add_argument("--inactive", action="append", default=[], metavar="NAME",
                     help="a controller to load and configure only, as the spawner's --inactive (repeatable)")
     up.add_argument("--seconds", type=float, default=1.0, metavar="S",
-                    help="simulated seconds to spin after spawning (default 1)")
+                    help=f"simulated seconds to spin after spawning (default 1; at most {BRINGUP_MAX_SECONDS:g}, and at "
+                         f"most {BRINGUP_MAX_CYCLES:,} control cycles at the controller manager's update rate)")
 
 
 def _xacro_args(pairs: Sequence[str], option: str = "--xacro-arg",
@@ -135,6 +143,26 @@ def _format_value(value: Any) -> str:
     return f"{value:.4f}" if isinstance(value, float) else str(value)
 
 
+def _regular_file(option: str, value: str | None) -> None:
+    """Refuse a path given on the command line that is not a regular file (a FIFO would block the read forever, a
+    device would never end); a package reference, a package name or text is resolved and checked by the reader.
+
+    Raises:
+        CourseError: If ``value`` names an existing path that is not a regular file.
+    """
+    if value is None or "\n" in value or value.lstrip().startswith("<") or value.startswith(("package://", "$(")):
+        return
+    try:
+        mode = os.stat(value).st_mode  # a link is followed: what counts is what would be read
+    except (OSError, ValueError):
+        return  # missing (or not a path): bringup says where it looked
+    if not stat.S_ISREG(mode):
+        kind = ("a folder" if stat.S_ISDIR(mode) else "a FIFO (named pipe)" if stat.S_ISFIFO(mode)
+                else "a device" if stat.S_ISCHR(mode) or stat.S_ISBLK(mode) else "not a regular file")
+        raise CourseError(option, value, f"{option} {value!r} is {kind}; give a regular file (.urdf, .xacro or "
+                          "controllers .yaml), package://pkg/path or $(find pkg)/path")
+
+
 def _cmd_bringup(args: argparse.Namespace) -> int:
     """Bring up, spawn, spin ``--seconds`` and print what runs; any failure is one line and exit status 2."""
     import logging
@@ -144,6 +172,12 @@ def _cmd_bringup(args: argparse.Namespace) -> int:
     seconds = args.seconds
     if not math.isfinite(seconds) or seconds < 0:
         raise CourseError("--seconds", seconds, f"--seconds must be a number of seconds of 0 or more, not {seconds:g}")
+    if seconds > BRINGUP_MAX_SECONDS:
+        raise CourseError("--seconds", seconds, f"--seconds {seconds:g} is more than the {BRINGUP_MAX_SECONDS:g} "
+                          "simulated seconds one bringup may spin; give less, or drive a longer run from Python "
+                          "(rrbot_workshop.bringup(...).spin(seconds))")
+    _regular_file("description", args.description)
+    _regular_file("--controllers", args.controllers)
     xacro_args = _bringup_args(args.arg)
     if not logging.getLogger().handlers:  # bringup's INFO lines (what was mocked) and every warning, on stderr
         logging.basicConfig(level=logging.WARNING, format="%(levelname)s %(name)s: %(message)s")
@@ -157,7 +191,19 @@ def _cmd_bringup(args: argparse.Namespace) -> int:
     except Exception as exc:  # noqa: BLE001 - a plugin's own bug: one message, not a traceback
         raise CourseError("bringup", args.description, f"bringup failed: {type(exc).__name__}: {exc}") from exc
     try:
-        system.spin(seconds)
+        cycles = seconds / system.period
+        if cycles > BRINGUP_MAX_CYCLES:
+            rate = 1.0 / system.period
+            raise CourseError("--seconds", seconds, f"--seconds {seconds:g} at this controller manager's update rate "
+                              f"({rate:g} Hz) is {cycles:,.0f} control cycles, more than the {BRINGUP_MAX_CYCLES:,} "
+                              f"one bringup may run; give at most {BRINGUP_MAX_CYCLES * system.period:g} s")
+        try:
+            system.spin(seconds)
+        except RRBotWorkshopError:
+            raise
+        except Exception as exc:  # noqa: BLE001 - a plugin's own bug while running: one message, not a traceback
+            raise CourseError("bringup", args.description, f"the system failed while spinning: "
+                              f"{type(exc).__name__}: {exc}") from exc
         _print_system(system)
     finally:
         system.shutdown()

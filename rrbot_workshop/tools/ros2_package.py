@@ -18,8 +18,9 @@ from pathlib import Path
 
 from rrbot_workshop.exceptions import CourseError
 
-__all__ = ["package_xml", "cmakelists", "launch_file", "check_generated", "launch_argument_problem", "check_target",
-           "launch_packages", "description_packages", "Created"]
+__all__ = ["package_xml", "package_xml_values", "package_name_problem", "plugin_name_problem", "PACKAGE_NAME_RULE",
+           "PLUGIN_NAME_RULE", "cmakelists", "launch_file", "check_generated", "launch_argument_problem",
+           "check_target", "launch_packages", "description_packages", "Created"]
 
 _MAINTAINER = "learner@example.com"
 #: The longest file or folder name most file systems take, in bytes.
@@ -30,26 +31,98 @@ _COMMENT = re.compile(r"<!--.*?-->", re.DOTALL)
 _FIND = re.compile(r"\$\(find\s+([A-Za-z0-9_]+)\)|package://([A-Za-z0-9_]+)/")
 
 
+#: The rule of REP 144 for a ROS package name, in one sentence for error messages.
+PACKAGE_NAME_RULE = ("a ROS package name (REP 144) is at least two characters: lowercase letters, digits and "
+                     "underscores, starting with a letter, never two underscores in a row (e.g. 'controlko_bringup')")
+#: The form of a plugin name as pluginlib looks it up, in one sentence for error messages.
+PLUGIN_NAME_RULE = ("a plugin name is '<package>/<Class>': a ROS package name, one '/', and a C++ class name of "
+                    "letters, digits and underscores not starting with a digit (e.g. 'mock_components/GenericSystem')")
+_PACKAGE_NAME = re.compile(r"[a-z](?:[a-z0-9]|_(?!_))*\Z")
+_CLASS_NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
+#: The longest name checked [characters]; anything longer is refused without being matched.
+_NAME_MAX_CHARS = 255
+
+
+def package_name_problem(name: object) -> str:
+    """Why ``name`` is not a valid ROS package name (REP 144), or ``""`` if it is."""
+    if not isinstance(name, str):
+        return f"it is a {type(name).__name__}, not text"
+    if len(name) > _NAME_MAX_CHARS:
+        return f"it has {len(name)} characters, more than {_NAME_MAX_CHARS}"
+    if len(name) < 2 or not _PACKAGE_NAME.match(name):
+        return f"{name!r} is not one"
+    return ""
+
+
+def plugin_name_problem(name: object) -> str:
+    """Why ``name`` is not a plugin name of the ``<package>/<Class>`` form pluginlib looks up, or ``""`` if it is."""
+    if not isinstance(name, str):
+        return f"it is a {type(name).__name__}, not text"
+    if len(name) > 2 * _NAME_MAX_CHARS:
+        return f"it has {len(name)} characters, more than {2 * _NAME_MAX_CHARS}"
+    package, slash, cls = name.partition("/")
+    if not slash or package_name_problem(package) or not _CLASS_NAME.match(cls):
+        return f"{name!r} is not of that form"
+    return ""
+
+
+#: The prolog of every package.xml: constant text, no value of the package's is ever formatted into it.
+_PACKAGE_XML_PROLOG = ('<?xml version="1.0"?>\n<?xml-model href="http://download.ros.org/schema/package_format3.xsd" '
+                       'schematypens="http://www.w3.org/2001/XMLSchema"?>\n')
+
+
 def package_xml(name: str, description: str, build_type: str, exec_depends: list[str]) -> str:
-    depends = "\n".join(f"  <exec_depend>{d}</exec_depend>" for d in exec_depends)
-    return f"""<?xml version="1.0"?>
-<?xml-model href="http://download.ros.org/schema/package_format3.xsd" schematypens="http://www.w3.org/2001/XMLSchema"?>
-<package format="3">
-  <name>{name}</name>
-  <version>0.1.0</version>
-  <description>{description}</description>
-  <maintainer email="{_MAINTAINER}">rrbot_workshop learner</maintainer>
-  <license>Apache-2.0</license>
+    """A ``package.xml`` (format 3), built with :mod:`xml.etree.ElementTree`: every value is an element's text,
+    escaped by the library.
 
-  <buildtool_depend>ament_cmake</buildtool_depend>
+    Args:
+        name: The package's name.
+        description: One sentence.
+        build_type: ``ament_cmake`` or ``ament_python``.
+        exec_depends: The packages it needs at run time.
 
-{depends}
+    Raises:
+        CourseError: If ``name`` or a dependency is not a ROS package name (:func:`package_name_problem`).
+    """
+    for role, value in [("package name", name), *(("exec_depend", d) for d in exec_depends)]:
+        problem = package_name_problem(value)
+        if problem:
+            raise CourseError("package.xml", value, f"package.xml not written: its {role} {str(value)[:80]!r} is not "
+                              f"a ROS package name ({problem}); {PACKAGE_NAME_RULE}")
+    package = ET.Element("package", {"format": "3"})
+    for tag, text in (("name", name), ("version", "0.1.0"), ("description", description)):
+        ET.SubElement(package, tag).text = text
+    ET.SubElement(package, "maintainer", {"email": _MAINTAINER}).text = "rrbot_workshop learner"
+    ET.SubElement(package, "license").text = "Apache-2.0"
+    ET.SubElement(package, "buildtool_depend").text = "ament_cmake"
+    for dependency in exec_depends:
+        ET.SubElement(package, "exec_depend").text = dependency
+    ET.SubElement(ET.SubElement(package, "export"), "build_type").text = build_type
+    ET.indent(package, space="  ")
+    return _PACKAGE_XML_PROLOG + ET.tostring(package, encoding="unicode") + "\n"
 
-  <export>
-    <build_type>{build_type}</build_type>
-  </export>
-</package>
-"""
+
+def package_xml_values(text: str) -> dict[str, list[str]]:
+    """The text of each element of a ``package.xml`` by tag (``{"name": [...], "exec_depend": [...]}``), read back
+    with a parser that keeps processing instructions and comments.
+
+    Raises:
+        CourseError: If the text does not parse, or holds a processing instruction or comment after its prolog.
+    """
+    builder = ET.TreeBuilder(insert_comments=True, insert_pis=True)
+    try:
+        parser = ET.XMLParser(target=builder)
+        parser.feed(text)
+        root = parser.close()
+    except ET.ParseError as exc:
+        raise CourseError("package.xml", text[:80], f"the generated package.xml does not parse ({exc})") from exc
+    values: dict[str, list[str]] = {}
+    for element in root.iter():
+        if not isinstance(element.tag, str):
+            raise CourseError("package.xml", text[:80], "the generated package.xml holds a processing instruction "
+                              "or comment in its body")
+        values.setdefault(element.tag, []).append(element.text or "")
+    return values
 
 
 def cmakelists(name: str, folders: list[str]) -> str:
@@ -145,9 +218,11 @@ def generate_launch_description():
 
 def check_generated(name: str, text: str) -> None:
     """Generated files must parse, or the export fails here (before anything is written) instead of in colcon."""
+    if name == "package.xml":
+        package_xml_values(text)
     try:
         if name.endswith(".xml"):
-            ET.fromstring(text.split("?>", 2)[-1] if text.startswith("<?xml") else text)
+            ET.fromstring(text)
         elif name.endswith(".py"):
             compile(text, name, "exec", flags=ast.PyCF_ONLY_AST)
     except (SyntaxError, ValueError, ET.ParseError) as exc:  # our template failed: say so, write nothing

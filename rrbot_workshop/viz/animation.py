@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import math
 import warnings
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
@@ -35,8 +36,14 @@ class PoseRecording:
         self._last_frame = -1
         self.frames: list[tuple[int, dict[str, np.ndarray]]] = []
 
-    def sample(self, time: float | None, poses: dict[str, np.ndarray]) -> None:
-        """Offer the link ``poses`` at ``time`` [s] (None: one frame after the previous sample)."""
+    def sample(self, time: float | None,
+               poses: dict[str, np.ndarray] | Callable[[], dict[str, np.ndarray]]) -> None:
+        """Offer the link ``poses`` at ``time`` [s] (None: one frame after the previous sample).
+
+        ``poses`` may be a function that gives them: it is called only when ``time`` starts a new frame, so a
+        recording at a few frames per second of a 100 Hz control loop computes the robot's pose a few times per
+        second, not at every cycle.
+        """
         if time is None:  # no clock information: the next frame
             time = (self._last_time + 1.0 / self.fps) if self._last_time is not None else 0.0
         if self._t0 is None:
@@ -46,7 +53,7 @@ class PoseRecording:
         if frame <= self._last_frame:  # this frame already holds the pose at its start time
             return
         self._last_frame = frame
-        self.frames.append((frame, poses))
+        self.frames.append((frame, poses() if callable(poses) else poses))
 
     def animation(self, root: str) -> Any:
         """The frames as a ``meshcat.animation.Animation`` of the links drawn under scene path ``root``."""

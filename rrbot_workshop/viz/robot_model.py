@@ -159,6 +159,7 @@ class RobotModel:
         self.visuals: list[VisualShape] = self._read_visuals()
         self.joint_ranges: list[JointRange] = self._read_joint_ranges()
         self._positions: dict[str, float] = {j.name: 0.0 for j in self.joint_ranges}
+        self._stale = True  # the model's poses are computed from _positions at the next link_poses()
 
     # ------------------------------------------------------------------------------------- reading
     def _material_rgba(self, material: object | None) -> tuple[float, float, float, float]:
@@ -240,10 +241,13 @@ class RobotModel:
         if not known:
             return
         self._positions.update(known)
-        self._urdf.update_cfg(dict(self._positions))
+        self._stale = True  # forward kinematics when the poses are asked for (a 100 Hz loop sets them every cycle)
 
     def link_poses(self) -> dict[str, np.ndarray]:
         """4x4 pose of every link in the root link's frame, at the current joint positions."""
+        if self._stale:
+            self._urdf.update_cfg(dict(self._positions))
+            self._stale = False
         return {name: np.array(self._urdf.get_transform(name, self.base_link)) for name in self.link_names}
 
     def _visual_points(self, poses: Mapping[str, np.ndarray]) -> dict[str, list[np.ndarray]]:

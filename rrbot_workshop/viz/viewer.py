@@ -260,9 +260,9 @@ class Viewer:
         if not positions:
             return
         stamp = float(getattr(getattr(msg, "header", None), "stamp", 0.0) or 0.0)
-        self.model.set_positions(positions)
+        self.model.set_positions(positions)  # cheap: the pose is computed when a frame or the live view needs it
         if self._recording is not None:
-            self._recording.sample(stamp if stamp > 0.0 else None, self.model.link_poses())
+            self._recording.sample(stamp if stamp > 0.0 else None, self.model.link_poses)
         if self.scene.connection is None:
             return
         last = self._last_sent_stamp

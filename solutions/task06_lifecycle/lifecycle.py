@@ -7,7 +7,8 @@ Each function gets the running system's controller manager (``system.controller_
 
 ``PREDICTIONS`` (first in this file: make them before anything else) holds what you expect of requests made on a fresh
 RRBot; the self-check runs each one and tells you which parts of each prediction are wrong, not what the right answer
-is. Notebook 06 shows the outcomes and why only once every prediction is made.
+is. Notebook 06 shows the outcomes and why only once every prediction is made, and keeps your predictions as they are
+then: a prediction changed after the outcomes were shown earns nothing.
 """
 
 from __future__ import annotations
@@ -19,8 +20,9 @@ __all__ = ["switch_to_trajectory_controller", "recover", "remove_controller", "P
 
 # --------------------------------------------------------------------------------------------- 6.4 (first)
 
-# Predict these first, before you read on here or run anything in notebook 06: the rest of the notebook shows some
-# of the outcomes. Notebook 06's prediction cell grades them and, once every one is made, shows what happened.
+# Predict these first, before you read on here or run anything in notebook 06: the notebook's cells that show some of
+# the outcomes run only once every prediction is made. Notebook 06's prediction cell then keeps your predictions as
+# they are (a change after it earns nothing), grades them and shows what happened.
 
 # Each request is made on a fresh mock RRBot: joint_state_broadcaster and forward_position_controller active,
 # joint_trajectory_controller loaded and inactive, hardware component 'rrbot' active.

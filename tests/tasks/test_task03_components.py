@@ -89,6 +89,25 @@ RATES_CONTROLLERS: dict[str, Any] = {
     }},
 }
 
+#: Every controller slower than the 100 Hz loop (50, 25 and 20 Hz: whole divisors of it), the trajectory controller on
+#: joint2 then joint1 (its state interfaces come in that order: an answer that must be sorted shows it).
+SLOW_CONTROLLERS: dict[str, Any] = {
+    "controller_manager": {"ros__parameters": {
+        "update_rate": 100,
+        "joint_state_broadcaster": {"type": "joint_state_broadcaster/JointStateBroadcaster"},
+        "forward_position_controller": {"type": "forward_command_controller/ForwardCommandController"},
+        "joint_trajectory_controller": {"type": "joint_trajectory_controller/JointTrajectoryController"},
+    }},
+    "joint_state_broadcaster": {"ros__parameters": {"update_rate": 50}},
+    "forward_position_controller": {"ros__parameters": {
+        "joints": ["joint2", "joint1"], "interface_name": "position", "update_rate": 25,
+    }},
+    "joint_trajectory_controller": {"ros__parameters": {
+        "joints": ["joint2", "joint1"], "command_interfaces": ["position"], "state_interfaces": ["position", "velocity"],
+        "update_rate": 20,
+    }},
+}
+
 JSB, FWD, JTC = "joint_state_broadcaster", "forward_position_controller", "joint_trajectory_controller"
 PID1, PID2 = "pid_controller_joint1", "pid_controller_joint2"
 
@@ -163,6 +182,11 @@ def two_rrbots_system(urdf: str, right: str = "inactive") -> Any:
         spawn, inactive = ["left_forward_controller"], [JSB, "right_pid"]
     return _up(description=urdf, controllers=TWO_RRBOTS_CONTROLLERS, spawn=spawn, inactive=inactive,
                hardware_initial_state={"right_rrbot": right})
+
+
+def slow_system() -> Any:
+    """RRBot whose controllers all run slower than the loop; the trajectory controller (joint2, joint1) active."""
+    return _up(description="rrbot", controllers=copy.deepcopy(SLOW_CONTROLLERS), spawn=[JSB, JTC], inactive=[FWD])
 
 
 def rates_system(loop: int = 100) -> Any:
@@ -243,6 +267,27 @@ def _same(what: str, got: Any, expected: Any) -> None:
     pytest.fail(f"{what}: your answer{_brief_difference(got, expected)}", pytrace=False)
 
 
+@contextmanager
+def _truth_standing_in(answers: ModuleType) -> Iterator[None]:
+    """While task 3.9 is asked, the answers it may build on (3.7, 3.8, 3.10) are the truth: their own checks judge
+    them, so one slip there costs their rule, not 3.9's too."""
+    truth: dict[str, Callable[..., Any]] = {"owner_of_interface": true_owner, "available_interfaces": true_available,
+                                            "hardware_states": true_hardware_states}
+    kept = {name: getattr(answers, name, None) for name in truth}
+    for name, function in truth.items():
+        setattr(answers, name, function)
+    try:
+        yield
+    finally:
+        for name, function in kept.items():
+            setattr(answers, name, function)
+
+
+def _claimable(answers: ModuleType, system: System) -> Any:
+    with _truth_standing_in(answers):
+        return _sorted_list("claimable", answers.claimable_command_interfaces(system))
+
+
 def _sorted_list(what: str, got: Any) -> Any:
     """The learner's list as it is (never sorted here); anything else than a list fails with a sentence."""
     if not isinstance(got, (list, tuple)):
@@ -262,7 +307,8 @@ def _sorted_list(what: str, got: Any) -> Any:
 def test_loop_rate(answers: ModuleType, two_rrbots_urdf: str) -> None:
     for what, make in (("RRBot with its 100 Hz YAML", forward_system),
                        ("two RRBots on a 250 Hz loop", lambda: two_rrbots_system(two_rrbots_urdf)),
-                       ("RRBot on a 40 Hz loop", lambda: rates_system(40))):
+                       ("RRBot on a 40 Hz loop", lambda: rates_system(40)),
+                       ("RRBot on a 100 Hz loop whose controllers all run slower (50, 25, 20 Hz)", slow_system)):
         with make() as system:
             _same(f"loop_rate on {what}", answers.loop_rate(system), system.controller_manager.get_update_rate())
 
@@ -277,7 +323,8 @@ def test_loop_rate(answers: ModuleType, two_rrbots_urdf: str) -> None:
 def test_controller_update_rates(answers: ModuleType, two_rrbots_urdf: str) -> None:
     cases = (("a 100 Hz loop whose controllers ask for 30, 500 and 50 Hz", rates_system),
              ("a 40 Hz loop whose controllers ask for 30, 500 and 50 Hz", lambda: rates_system(40)),
-             ("two RRBots on a 250 Hz loop, the PID at 50 Hz", lambda: two_rrbots_system(two_rrbots_urdf)))
+             ("two RRBots on a 250 Hz loop, the PID at 50 Hz", lambda: two_rrbots_system(two_rrbots_urdf)),
+             ("a 100 Hz loop whose controllers all run slower (50, 25, 20 Hz)", slow_system))
     for what, make in cases:
         with make() as system:
             truth = {c.name: c.update_rate for c in system.controller_manager.list_controllers()}
@@ -348,6 +395,11 @@ def test_state_interfaces_read_by(answers: ModuleType, two_rrbots_urdf: str) -> 
         _same(f"state_interfaces_read_by('{JTC}') with it active",
               _sorted_list("state_interfaces_read_by", answers.state_interfaces_read_by(system, JTC)),
               true_state_interfaces(system, JTC))
+    with slow_system() as system:
+        _same(f"state_interfaces_read_by('{JTC}') with it active on joints [joint2, joint1] (the answer is sorted by "
+              "name, whatever the order of the joints)",
+              _sorted_list("state_interfaces_read_by", answers.state_interfaces_read_by(system, JTC)),
+              true_state_interfaces(system, JTC))
     with two_rrbots_system(two_rrbots_urdf) as system:
         for ctrl in (JSB, "right_pid"):
             _same(f"state_interfaces_read_by('{ctrl}') on two RRBots",
@@ -373,6 +425,13 @@ def test_reference_interfaces_of(answers: ModuleType, two_rrbots_urdf: str) -> N
             _same(f"reference_interfaces_of('{ctrl}') in the chain",
                   _sorted_list("reference_interfaces_of", answers.reference_interfaces_of(system, ctrl)),
                   true_references(system, ctrl))
+        cm = system.controller_manager
+        cm.switch_controllers(deactivate=[JTC, PID1, PID2], strictness="strict")
+        for step, when in ((cm.cleanup_controller, "cleaned up"), (cm.configure_controller, "configured again")):
+            step(PID1)
+            _same(f"reference_interfaces_of('{PID1}') {when}",
+                  _sorted_list("reference_interfaces_of", answers.reference_interfaces_of(system, PID1)),
+                  true_references(system, PID1))
     with two_rrbots_system(two_rrbots_urdf) as system:
         for ctrl in ("right_pid", "left_forward_controller"):
             _same(f"reference_interfaces_of('{ctrl}') on two RRBots (right_pid configured, inactive)",
@@ -442,19 +501,17 @@ def test_available_interfaces(answers: ModuleType, two_rrbots_urdf: str) -> None
 ))
 def test_claimable_command_interfaces(answers: ModuleType, two_rrbots_urdf: str) -> None:
     with forward_system() as system:
-        _same("claimable_command_interfaces with the forward controller active",
-              _sorted_list("claimable", answers.claimable_command_interfaces(system)), true_claimable(system))
+        _same("claimable_command_interfaces with the forward controller active", _claimable(answers, system),
+              true_claimable(system))
     with hardware_state_system("inactive") as system:
         truth = true_claimable(system)
         assert truth == [], truth
-        _same("claimable_command_interfaces with the RRBot hardware inactive",
-              _sorted_list("claimable", answers.claimable_command_interfaces(system)), truth)
+        _same("claimable_command_interfaces with the RRBot hardware inactive", _claimable(answers, system), truth)
     with two_rrbots_system(two_rrbots_urdf, right="inactive") as system:
         _same("claimable_command_interfaces with left_rrbot active and right_rrbot inactive",
-              _sorted_list("claimable", answers.claimable_command_interfaces(system)), true_claimable(system))
+              _claimable(answers, system), true_claimable(system))
     with chained_system() as system:
-        _same("claimable_command_interfaces in the chain",
-              _sorted_list("claimable", answers.claimable_command_interfaces(system)), true_claimable(system))
+        _same("claimable_command_interfaces in the chain", _claimable(answers, system), true_claimable(system))
 
 
 # --------------------------------------------------------------------------------------------- hardware
@@ -563,8 +620,7 @@ def _first_difference(answers: ModuleType, system: System) -> str | None:
         ("update_order(system)", lambda: answers.update_order(system), lambda: true_update_order(system)),
         ("hardware_states(system)", lambda: _hardware_states(answers, system), lambda: true_hardware_states(system)),
         ("available_interfaces(system)", lambda: _available(answers, system), lambda: true_available(system)),
-        ("claimable_command_interfaces(system)", lambda: answers.claimable_command_interfaces(system),
-         lambda: true_claimable(system)),
+        ("claimable_command_interfaces(system)", lambda: _claimable(answers, system), lambda: true_claimable(system)),
         ("controller_update_rates(system)", lambda: answers.controller_update_rates(system),
          lambda: {c.name: c.update_rate for c in cm.list_controllers()}),
     ]
@@ -642,7 +698,15 @@ def _case(problem: str, when: str, where: str, done: list[str]) -> str:
     return text
 
 
-@graded(points=3, hint=(
+#: The answers the generated sequences compare: when one of their checks fails, so may the sequences.
+_COMPARED = (
+    "test_update_order", "test_hardware_states", "test_available_interfaces", "test_claimable_command_interfaces",
+    "test_controller_update_rates", "test_claimant_of", "test_state_interfaces_read_by",
+    "test_reference_interfaces_of",
+)
+
+
+@graded(points=2, after=_COMPARED, hint=(
     "Tasks 3.3-3.10 after any sequence of load, configure, activate, deactivate, cleanup and hardware state "
     "changes on the chained RRBot (joint_trajectory_controller -> pid_controller_joint1/2): every answer must be "
     "what the controller manager's lists say at that moment. The reason shows the shortest sequence where yours "

@@ -97,11 +97,22 @@ def answers(task_file: Callable[[int, str], Path]) -> ModuleType:
 
 
 def _answer(answers: ModuleType, function: str, *args: Any) -> Any:
-    """Call the learner's ``function``; what it raises propagates (the learner's error, at its line)."""
+    """Call the learner's ``function``; what it raises propagates (the learner's error, at its line).
+
+    Questions 4.5 and 4.6 build on 4.2's controller_states (their TODOs say so): while they are asked, the truth stands
+    in for it, so a slip in 4.2 costs 4.2's points, not theirs too.
+    """
     fn = getattr(answers, function, None)
     if not callable(fn):
         pytest.fail(f"{MAIN_FILE} has no function {function}()", pytrace=False)
-    return fn(*args)
+    if function not in ("switch_between", "activate_all_at_once"):
+        return fn(*args)
+    kept = getattr(answers, "controller_states", None)
+    answers.controller_states = lambda target: ref_states(getattr(target, "controller_manager", target))
+    try:
+        return fn(*args)
+    finally:
+        answers.controller_states = kept
 
 
 def _list_difference(got: Any, want: list[str]) -> str:
@@ -216,6 +227,10 @@ def _system(kind: str, tmp_path: Path | None = None) -> Iterator[rw.System]:
             path, controllers, spawn=[JSB, "left_position_controller"], inactive=["right_position_controller"],
             hardware_initial_state={"right_rrbot": "inactive"},
         )
+    elif kind == "joints_reversed":  # both joint controllers on [joint2, joint1]: lists come in that order
+        config = _rrbot_controllers(forward_joints=("joint2", "joint1"))
+        config[JTC]["ros__parameters"]["joints"] = ["joint2", "joint1"]
+        system = rw.bringup("rrbot", config, spawn=[JSB, JTC], inactive=[FORWARD])
     elif kind == "no_conflict":  # the forward controller is ready and nothing holds its joints
         system = rw.bringup("rrbot", "rrbot_controllers.yaml", spawn=[JSB], inactive=[FORWARD])
     elif kind == "hardware_unconfigured":  # hardware loaded but not configured: nothing is available
@@ -305,7 +320,7 @@ def test_loaded_controllers(answers: ModuleType) -> None:
                   _answer(answers, "loaded_controllers", system.controller_manager), want, order="listed")
 
 
-@graded(points=2, hint=(
+@graded(points=2, after=("test_loaded_controllers",), hint=(
     "Task 4.2: each loaded controller's lifecycle state as a label: 'unconfigured' when only loaded, 'inactive' "
     "when configured but not running, 'active' when running.",
     "Each entry of cm.list_controllers() has .name and .state (already the label, a string).",
@@ -441,7 +456,7 @@ def _strict(strictness: Any) -> bool:
         return False
 
 
-@graded(points=1, hint=(
+@graded(points=1, after=("test_switch_between",), hint=(
     "Task 4.5: the swap is ONE strict switch with both lists, as `ros2 control switch_controllers --deactivate old "
     "--activate new --strict`: two calls leave the robot without a controller in between or are rejected, and a "
     "best-effort switch could do half of it.",
@@ -465,7 +480,7 @@ def test_switch_is_one_strict_step(answers: ModuleType) -> None:
     )
 
 
-@graded(points=1, hint=(
+@graded(points=1, after=("test_switch_between", "test_switch_is_one_strict_step"), hint=(
     "Task 4.5: a switch the controller manager rejects raises SwitchError, and nothing changes: switch_between "
     "must let the error through, not catch it, retry or return states as if it had worked.",
     "A strict cm.switch_controllers raises rw.SwitchError when any part is impossible (here: the new controller "
@@ -509,6 +524,7 @@ def test_conflict_names(answers: ModuleType) -> None:
         "workshop": {"interfaces": joints, "controllers": sorted([FORWARD, JTC])},
         "both_inactive": {"interfaces": joints, "controllers": sorted([FORWARD, JTC])},
         "renamed": {"interfaces": ["r1_joint2/position"], "controllers": sorted([RENAMED[FORWARD], RENAMED[JTC]])},
+        "joints_reversed": {"interfaces": joints, "controllers": sorted([FORWARD, JTC])},
     }
     for kind, names in expected.items():
         with _system(kind) as system:
@@ -516,7 +532,7 @@ def test_conflict_names(answers: ModuleType) -> None:
         _dict_of_lists(f"on the '{kind}' system, activate_all_at_once()", got, names)
 
 
-@graded(points=1, hint=(
+@graded(points=1, after=("test_conflict_names",), hint=(
     "Task 4.6: when nothing conflicts, the switch goes through: the inactive controllers are now active and both "
     "lists are empty.",
     "If cm.switch_controllers raises nothing, the answer is {\"interfaces\": [], \"controllers\": []}.",
@@ -533,7 +549,7 @@ def test_switch_that_goes_through(answers: ModuleType) -> None:
           {JSB: "active", FORWARD: "active"})
 
 
-@graded(points=2, hint=(
+@graded(points=2, after=("test_conflict_names",), hint=(
     "Task 4.6: a rejected strict switch changes nothing. Ask for all the inactive controllers in ONE strict "
     "switch_controllers call (strictness=\"strict\") and do not retry them one by one: the controller states and "
     "the claimed interfaces must be the same afterwards.",
@@ -604,6 +620,11 @@ def test_interfaces_in_use(answers: ModuleType, tmp_path: Path) -> None:
             JSB: {"command": [], "state": arm_states},
             "left_position_controller": {"command": ["left_joint1/position", "left_joint2/position"], "state": []},
             "right_position_controller": nothing,
+        },
+        "joints_reversed": {
+            JSB: {"command": [], "state": RRBOT_STATES},
+            JTC: {"command": ["joint1/position", "joint2/position"], "state": jtc_states},
+            FORWARD: nothing,
         },
     }
     for kind, uses in expected.items():
@@ -723,7 +744,10 @@ def _case(problem: str, when: str, where: str, done: list[str]) -> str:
     return text
 
 
-@graded(points=3, hint=(
+@graded(points=2, after=(
+    "test_loaded_controllers", "test_controller_states", "test_hardware_component_states", "test_available_interfaces",
+    "test_interfaces_in_use",
+), hint=(
     "Tasks 4.1-4.4 and 4.7 after any sequence of load, configure, activate, deactivate, cleanup, unload and hardware "
     "state changes: each answer must be what list_controllers(), list_hardware_components() and "
     "list_hardware_interfaces() say at that moment. The reason shows the shortest sequence where yours differs.",

@@ -24,6 +24,9 @@ import websocket
 
 #: Debian's headless browser, or None where it is not installed.
 CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
+#: How long a wait may last before it is taken for a hang [s]. The tests bound the work they ask of the browser
+#: (pages, frames, cells), never the time it takes: this only ends a wait that would never end, on any machine.
+HANG_GUARD = 900.0
 
 
 def unavailable(reason: str) -> NoReturn:
@@ -41,28 +44,30 @@ class Browser:
         chromium: Path of the Chromium executable.
         profile: A fresh directory for its profile.
         size: Window size in pixels.
+        webgl: Render WebGL in software (SwiftShader), for pages that draw a 3D scene.
     """
 
-    def __init__(self, chromium: str, profile: Path, size: tuple[int, int] = (1400, 900)) -> None:
+    def __init__(self, chromium: str, profile: Path, size: tuple[int, int] = (1400, 900), webgl: bool = False) -> None:
         profile.mkdir(parents=True, exist_ok=True)
         (profile / "DevToolsActivePort").unlink(missing_ok=True)  # a reused profile must not hand us an old port
         self._process = subprocess.Popen(
             [chromium, "--headless=new", "--no-sandbox", "--disable-gpu", "--no-first-run", "--disable-sync",
              "--disable-background-networking", "--remote-debugging-address=127.0.0.1", "--remote-debugging-port=0",
-             f"--user-data-dir={profile}", f"--window-size={size[0]},{size[1]}", "about:blank"],
+             f"--user-data-dir={profile}", f"--window-size={size[0]},{size[1]}",
+             *(["--enable-unsafe-swiftshader"] if webgl else []), "about:blank"],
             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
         port_file = profile / "DevToolsActivePort"
-        for _ in range(300):
-            if port_file.exists() and port_file.read_text().strip():
-                break
+        deadline = time.monotonic() + HANG_GUARD
+        while not (port_file.exists() and port_file.read_text().strip()):
+            if self._process.poll() is not None or time.monotonic() > deadline:
+                self.close()
+                raise RuntimeError("Chromium ended or hung before it opened its debugging port")
             time.sleep(0.1)
-        else:
-            self.close()
-            raise RuntimeError("Chromium did not open its debugging port within 30 s")
         port = int(port_file.read_text().split()[0])
         targets = json.load(urllib.request.urlopen(f"http://127.0.0.1:{port}/json", timeout=10))
         page = next(t for t in targets if t["type"] == "page")
-        self._ws = websocket.create_connection(page["webSocketDebuggerUrl"], suppress_origin=True, timeout=150)
+        self._ws = websocket.create_connection(page["webSocketDebuggerUrl"], suppress_origin=True,
+                                              timeout=HANG_GUARD)
         self._ids = itertools.count(1)
 
     def call(self, method: str, **params: Any) -> dict[str, Any]:
@@ -84,11 +89,11 @@ class Browser:
             raise RuntimeError(f"in the page: {details.get('exception', {}).get('description') or details}")
         return result["result"].get("value")
 
-    def wait_for(self, expression: str, timeout: float = 60.0, what: str = "") -> Any:
+    def wait_for(self, expression: str, *, timeout: float = HANG_GUARD, what: str = "") -> Any:
         """Evaluate ``expression`` until it is truthy; its value.
 
         Raises:
-            AssertionError: After ``timeout`` seconds, naming ``what``.
+            AssertionError: After ``timeout`` seconds (a hang guard, not a speed requirement), naming ``what``.
         """
         deadline = time.monotonic() + timeout
         while time.monotonic() < deadline:
@@ -101,7 +106,16 @@ class Browser:
     def open(self, url: str) -> None:
         """Navigate and wait for the document to load."""
         self.call("Page.navigate", url=url)
-        self.wait_for("document.readyState === 'complete'", 60, f"{url} to load")
+        self.wait_for("document.readyState === 'complete'", what=f"{url} to load")
+
+    def frames(self, count: int) -> None:
+        """Wait until the page has drawn ``count`` more animation frames (work done, whatever time it takes)."""
+        self.js(f"new Promise(done => {{ let n = 0; const step = () => (++n >= {int(count)} ? done(n) : "
+                "requestAnimationFrame(step)); requestAnimationFrame(step); })")
+
+    def viewport(self, width: int, height: int) -> None:
+        """Make the page's viewport exactly ``width`` x ``height`` pixels (the window also holds the browser's own bars)."""
+        self.call("Emulation.setDeviceMetricsOverride", width=width, height=height, deviceScaleFactor=1, mobile=False)
 
     def screenshot(self, path: Path) -> Path:
         """Save a PNG of the page."""

@@ -54,7 +54,8 @@ class Variant:
             solution must also lose points overall.
         names_file: A failing check's reason must name this file of the learner's (``"jerk_limited.py"``): the cause
             is in the learner's code and the reason says where.
-        says: Check name -> a phrase its reason must contain: the reason names what is wrong, not a symptom.
+        says: Check name -> a phrase its reason must contain: the reason names what is wrong, not a symptom (for a
+            check that waits for another, "fails because <that check> fails" or its own detail).
         only: A slip of one rule: no check outside ``fails`` may lose points (the others are judged on their own,
             with the reference standing in for the broken part or the value taken as given).
     """
@@ -95,14 +96,18 @@ def build_variant(task: int, variant: Variant, dest: Path) -> Path:
 
 
 def grade_variants(task: int, variants: Iterable[Variant], tmp: Path, workers: int | None = None) -> dict[str, Rubric]:
-    """Grade every variant (``workers`` subprocesses at a time, default the CPU count); name -> rubric."""
+    """Grade every variant (``workers`` subprocesses at a time); name -> rubric.
+
+    ``workers`` defaults to this process's share of the cores: all of them, or one per pytest-xdist worker's share.
+    """
     listed = list(variants)
     names = [v.name for v in listed]
     duplicates = {n for n in names if names.count(n) > 1}
     if duplicates:
         raise AssertionError(f"variant names must be unique: {sorted(duplicates)}")
     roots = {v.name: build_variant(task, v, tmp / v.name) for v in listed}
-    with ThreadPoolExecutor(max_workers=workers or os.cpu_count() or 2) as pool:
+    share = (os.cpu_count() or 2) // int(os.environ.get("PYTEST_XDIST_WORKER_COUNT", "1") or 1)
+    with ThreadPoolExecutor(max_workers=workers or max(1, share)) as pool:
         futures = {name: pool.submit(grade, task, task_root=root, record=False) for name, root in roots.items()}
         return {name: future.result() for name, future in futures.items()}
 
@@ -141,7 +146,7 @@ def assert_loses_points(rubric: Rubric, variant: Variant) -> None:
         reasons = [c.detail for c in rubric.failed() if c.name in variant.fails]
         assert any(variant.names_file in r for r in reasons), (
             f"{variant.name}: no reason names the learner's {variant.names_file}:\n{report}")
-    details = {c.name: c.detail for c in rubric.failed()}
+    details = {c.name: f"{c.reason} | {c.detail}" for c in rubric.failed()}  # what the learner reads, and the cause
     for name, phrase in variant.says.items():
         assert phrase.lower() in details.get(name, "").lower(), (
             f"{variant.name}: the reason of {name} does not say {phrase!r}:\n{report}")

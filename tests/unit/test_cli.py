@@ -190,7 +190,7 @@ def test_reset_with_an_unwritable_backup_folder_changes_nothing_and_says_why(
     exercise = _committed(course)
 
     def no_space(src: object, dst: str, *args: object, **kwargs: object) -> None:
-        Path(dst).mkdir(parents=True)
+        Path(dst).mkdir(parents=True, exist_ok=True)  # the backup folder is made first (a name of its own)
         (Path(dst) / "half.txt").write_text("x")
         raise OSError(28, "No space left on device")
 
@@ -255,6 +255,22 @@ def test_export_leaves_out_solutions_and_reset_works_from_its_archive(course: Pa
     (target / "exercises" / "task05_fake" / "answer.txt").write_text("mine")
     assert main(["--course", str(target), "reset", "5"]) == 0
     assert (target / "exercises" / "task05_fake" / "answer.txt").read_text() == "TODO\n"
+
+
+@pytest.mark.parametrize("from_git", [True, False])
+def test_export_leaves_out_the_hidden_wrong_controllers_of_task16(course: Path, tmp_path: Path, from_git: bool) -> None:
+    hidden = course / "tests" / "tasks" / "task16_mutants"
+    hidden.mkdir()
+    (hidden / "update.py").write_text("class StateNotAdded: ...\n")
+    (course / "tests" / "tasks" / "task16_public_mutants.py").write_text("class SlowModeIgnored: ...\n")
+    if from_git:
+        _git(course, "init", "-q")
+        _git(course, "add", ".")
+        _git(course, "commit", "-q", "-m", "course")
+    target = export_student_copy(tmp_path / "student")
+    assert not (target / "tests" / "tasks" / "task16_mutants").exists()
+    assert (target / "tests" / "tasks" / "task16_public_mutants.py").is_file()
+    assert (target / "tests" / "tasks" / "test_task05_fake.py").is_file()
 
 
 def test_export_refuses_a_non_empty_folder(course: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:

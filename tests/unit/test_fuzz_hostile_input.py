@@ -14,8 +14,8 @@ from core_helpers import load_configure, make_cm
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from rrbot_workshop import cli
 from rrbot_workshop.control_toolbox.pid import Pid
-from rrbot_workshop.course import cli
 from rrbot_workshop.exceptions import RRBotWorkshopError
 from rrbot_workshop.middleware.names import node_name_problem
 from rrbot_workshop.middleware.params import load_controllers_yaml

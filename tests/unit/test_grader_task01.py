@@ -7,6 +7,7 @@ Full marks on solutions/ and 0 on the untouched exercise are checked for every g
 from __future__ import annotations
 
 import pytest
+from grader_causes import assert_one_cause, check_specs, unknown_after
 from grader_variants import Variant, assert_full_marks, assert_loses_points, grade_variants
 
 from rrbot_workshop.course import tracks
@@ -48,77 +49,90 @@ JOINT1_STATES = """      <joint name="${prefix}joint1">
 WRONG = [
     # --- kept from test_graders.py (there as regex mutations)
     Variant("link1_of_0_4_m", {MACRO: [('name="link1_length" value="0.5"', 'name="link1_length" value="0.4"')]},
-            fails={"link1_shape", "joint2_placement", "tool0_at_tip", "tool0_everywhere_in_the_workspace",
-                   "inertias"}),
+            fails={"link1_shape", "joint2_placement", "tool0_everywhere_in_the_workspace"},
+            says={"joint2_placement": "0.5"}),
     Variant("missing_gpio_output", {TAG: [('        <command_interface name="digital_out_2" />\n'
                                            '        <state_interface name="digital_out_2" />\n', "")]},
-            fails={"gpio_outputs", "gpio_output_readback"}),
+            fails={"gpio_outputs", "gpio_output_readback"}, only=True),
     Variant("unprefixed_frame_id", {TAG: [('<param name="frame_id">${prefix}tool0</param>',
-                                           '<param name="frame_id">tool0</param>')]}, fails={"prefix"}),
+                                           '<param name="frame_id">tool0</param>')]}, fails={"prefix"}, only=True),
     Variant("joint2_limits_in_degrees", {MACRO: [('lower="${radians(-60)}" upper="${radians(240)}"',
-                                                  'lower="-60" upper="240"')]}, fails={"joint2_limits"}),
+                                                  'lower="-60" upper="240"')]}, fails={"joint2_limits"}, only=True),
     Variant("unprefixed_ros2_control_name", {TAG: [('<ros2_control name="${prefix}${name}"', '<ros2_control name="${name}"')]},
             fails={"prefix", "ros2_control_macro_name"}),
     Variant("unprefixed_sensor_and_gpio", {TAG: [('<sensor name="${prefix}tcp_fts_sensor">', '<sensor name="tcp_fts_sensor">'),
                                                  ('<gpio name="${prefix}flange_gpios">', '<gpio name="flange_gpios">')]},
-            fails={"prefix"}),
+            fails={"prefix"}, only=True),
     Variant("tool0_not_turned", {MACRO: [('rpy="0 ${-pi} ${-pi / 2}"', 'rpy="0 0 0"')]},
             fails={"tool0_orientation", "tool0_everywhere_in_the_workspace"}),
     Variant("missing_flange_frame", {MACRO: [(FLANGE, "")]}, fails={"links_and_joints", "tool0_orientation"}),
     Variant("link2_box_lying_along_x", {MACRO: [(LINK2_VISUAL_ORIGIN, LINK2_VISUAL_ORIGIN.replace(
         "${link2_width} ${link2_width} ${link2_length}", "${link2_length} ${link2_width} ${link2_width}"))]},
-            fails={"link2_shape"}),
+            fails={"link2_shape"}, only=True),
     Variant("link2_box_centred_on_joint2", {MACRO: [(LINK2_VISUAL_ORIGIN, LINK2_VISUAL_ORIGIN.replace(
-        'xyz="0 0 ${link2_length / 2}"', 'xyz="0 0 0"'))]}, fails={"link2_shape"}),
-    Variant("link1_without_collision", {MACRO: [(LINK1_COLLISION, "")]}, fails={"link1_shape"}),
+        'xyz="0 0 ${link2_length / 2}"', 'xyz="0 0 0"'))]}, fails={"link2_shape"}, only=True),
+    Variant("link1_without_collision", {MACRO: [(LINK1_COLLISION, "")]}, fails={"link1_shape"}, only=True),
     # --- masses and inertial origins as the TODO states them, not merely positive
     Variant("link2_mass_of_the_library_robot", {MACRO: [('name="link2_mass" value="0.5"', 'name="link2_mass" value="1.0"')]},
-            fails={"masses", "inertias"}),
+            fails={"masses"}, only=True),
     Variant("link1_mass_in_grams", {MACRO: [('name="link1_mass" value="1.0"', 'name="link1_mass" value="1000"')]},
-            fails={"masses", "inertias"}),
+            fails={"masses"}, only=True, says={"masses": "1000"}),
     Variant("link1_inertial_at_the_joint", {MACRO: [(
         '<xacro:cylinder_inertial mass="${link1_mass}" radius="${link1_radius}" length="${link1_length}">\n'
         '        <origin xyz="0 0 ${link1_length / 2}" rpy="0 0 0" />',
         '<xacro:cylinder_inertial mass="${link1_mass}" radius="${link1_radius}" length="${link1_length}">\n'
-        '        <origin xyz="0 0 0" rpy="0 0 0" />')]}, fails={"inertial_origins"}),
+        '        <origin xyz="0 0 0" rpy="0 0 0" />')]}, fails={"inertial_origins"}, only=True),
     Variant("link2_inertia_with_sizes_swapped", {MACRO: [(
         'x="${link2_width}" y="${link2_width}" z="${link2_length}"',
-        'x="${link2_length}" y="${link2_width}" z="${link2_width}"')]}, fails={"inertias"}),
+        'x="${link2_length}" y="${link2_width}" z="${link2_width}"')]}, fails={"inertias"}, only=True),
     # --- each bound, each direction
     Variant("joint1_turning_clockwise", {MACRO: [('<axis xyz="0 0 1" />', '<axis xyz="0 0 -1" />')]},
             fails={"joint1_placement", "tool0_everywhere_in_the_workspace"}),
     Variant("joint2_lowering_for_positive_angles", {MACRO: [('<axis xyz="0 1 0" />', '<axis xyz="0 -1 0" />')]},
             fails={"tool0_at_tip", "tool0_everywhere_in_the_workspace"}),
     Variant("joint1_lower_limit_of_half_a_turn", {MACRO: [('lower="${radians(-380)}"', 'lower="${radians(-180)}"')]},
-            fails={"joint1_limits"}),
+            fails={"joint1_limits"}, only=True),
     Variant("joint2_lower_limit_with_the_wrong_sign", {MACRO: [('lower="${radians(-60)}"', 'lower="${radians(60)}"')]},
-            fails={"joint2_limits"}),
+            fails={"joint2_limits"}, only=True),
     Variant("joint1_effort_of_100", {MACRO: [(
-        'upper="${radians(380)}" effort="1000.0"', 'upper="${radians(380)}" effort="100.0"')]}, fails={"joint1_limits"}),
+        'upper="${radians(380)}" effort="1000.0"', 'upper="${radians(380)}" effort="100.0"')]}, fails={"joint1_limits"}, only=True),
     # --- names the task states as parameters, tried with other values
     Variant("hard_coded_component_name", {TAG: [('<ros2_control name="${prefix}${name}"', '<ros2_control name="${prefix}rrbot"')]},
-            fails={"ros2_control_macro_name"}),
+            fails={"ros2_control_macro_name"}, only=True),
     Variant("hard_coded_left_prefix_in_the_tag", {TAG: [('<gpio name="${prefix}flange_gpios">', '<gpio name="left_flange_gpios">')]},
-            fails={"gpio_inputs", "gpio_outputs", "gpio_output_readback", "prefix"}),
+            fails={"prefix"}, only=True, says={"prefix": "left_flange_gpios"}),
     # --- the <ros2_control> tag
     Variant("two_plugins_in_hardware", {TAG: [(
         "<plugin>mock_components/GenericSystem</plugin>",
         "<plugin>mock_components/GenericSystem</plugin>\n"
-        "        <plugin>controlko_hardware_interface/RRBotHardwareInterface</plugin>")]}, fails={"ros2_control_tag"}),
+        "        <plugin>controlko_hardware_interface/RRBotHardwareInterface</plugin>")]}, fails={"ros2_control_tag"}, only=True),
     Variant("position_twice_instead_of_acceleration", {TAG: [(JOINT1_STATES, JOINT1_STATES.replace(
         '<state_interface name="acceleration" />', '<state_interface name="position" />'))]},
             fails={"joint_interfaces"}),
     Variant("input_as_command_too", {TAG: [('        <state_interface name="digital_in_1" />\n',
                                             '        <command_interface name="digital_in_1" />\n'
                                             '        <state_interface name="digital_in_1" />\n')]},
-            fails={"gpio_inputs", "gpio_outputs"}),
+            fails={"gpio_inputs"}, only=True),
     Variant("fts_as_gpio", {TAG: [('<sensor name="${prefix}tcp_fts_sensor">', '<gpio name="${prefix}tcp_fts_sensor">'),
                                   ('<param name="frame_id">${prefix}tool0</param>\n      </sensor>',
                                    '<param name="frame_id">${prefix}tool0</param>\n      </gpio>')]},
             fails={"fts_sensor"}),
     Variant("ros2_control_macro_not_instantiated", {MAIN: [(
         '  <xacro:rrbot_ros2_control name="rrbot" prefix="$(arg prefix)" />\n', "")]},
-            fails={"ros2_control_tag", "joint_interfaces", "prefix"}),
+            fails={"ros2_control_tag", "joint_interfaces", "prefix", "fts_sensor", "gpio_inputs", "gpio_outputs",
+                   "gpio_output_readback"}, says={"ros2_control_tag": "0 <ros2_control> tags"}),
+    # --- one slip, one rule: the others judged with the learner's value taken as given
+    Variant("joint1_at_half_the_pedestal", {MACRO: [('<origin xyz="0 0 ${pedestal_size}" rpy="0 0 0" />',
+                                                      '<origin xyz="0 0 ${pedestal_size / 2}" rpy="0 0 0" />')]},
+            fails={"joint1_placement", "tool0_everywhere_in_the_workspace"}, says={"joint1_placement": "[0, 0, 0.3]"}),
+    Variant("link1_radius_as_the_diameter", {MACRO: [('<xacro:property name="link1_radius" value="0.1" />',
+                                                       '<xacro:property name="link1_radius" value="0.2" />')]},
+            fails={"link1_shape"}, only=True, says={"link1_shape": "radius of 0.2"}),
+    Variant("second_input_left_out", {TAG: [('        <state_interface name="digital_in_2" />\n', "")]},
+            fails={"gpio_inputs"}, only=True, says={"gpio_inputs": "digital_in_2"}),
+    Variant("frame_id_misspelled", {TAG: [('<param name="frame_id">${prefix}tool0</param>',
+                                           '<param name="frame_id">${prefix}tool_0</param>')]},
+            fails={"fts_sensor"}, only=True, says={"fts_sensor": "tool_0"}),
 ]
 
 #: Numbers written out instead of properties and expressions, bodies before joints, inertials typed in by hand
@@ -267,6 +281,19 @@ def test_wrong_solution_loses_points(rubrics: dict[str, Rubric], variant: Varian
 @pytest.mark.parametrize("variant", RIGHT, ids=str)
 def test_alternative_solution_gets_full_marks(rubrics: dict[str, Rubric], variant: Variant) -> None:
     assert_full_marks(rubrics[variant.name])
+
+
+#: Variants with several slips at once.
+MANY_SLIPS: set[str] = set()
+
+
+@pytest.mark.parametrize("variant", [v for v in WRONG if v.name not in MANY_SLIPS], ids=str)
+def test_one_slip_shows_hints_for_one_check(rubrics: dict[str, Rubric], variant: Variant) -> None:
+    assert_one_cause(rubrics[variant.name], check_specs(1), variant.name)
+
+
+def test_after_names_checks_of_the_grader() -> None:
+    assert not unknown_after(check_specs(1))
 
 
 def test_there_are_enough_variants() -> None:

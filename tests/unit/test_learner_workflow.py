@@ -32,15 +32,24 @@ _IDENTITY = {"GIT_AUTHOR_NAME": "t", "GIT_AUTHOR_EMAIL": "t@example.invalid", "G
 pytestmark = pytest.mark.skipif(not HAS_GIT, reason="needs git and a git checkout of the course")
 
 
+#: The environment the course's test command was given (a student copy tested with CI's environment), kept for the
+#: clone's own commands, which then run on it with the clone's package first on PYTHONPATH.
+_GIVEN = "RRBOT_WORKSHOP_PYTHON"
+
+
 def _env() -> dict[str, str]:
-    env = {k: v for k, v in os.environ.items() if not k.startswith(("RRBOT_WORKSHOP_", "GIT_"))}
+    env = {k: v for k, v in os.environ.items() if not k.startswith(("RRBOT_WORKSHOP_", "GIT_")) or k == _GIVEN}
+    env.pop("PYTHONPATH", None)  # the clone's launcher puts its own folder there
     env.update(_IDENTITY)
     return env
 
 
 def _share_venv(target: Path) -> None:
     """Point ``target``'s ``.venv`` at this checkout's, which must be set up for this ``pyproject.toml``: a stale one
-    would make the copy's set-up reinstall into it, through the link, from a folder the test then deletes."""
+    would make the copy's set-up reinstall into it, through the link, from a folder the test then deletes. With an
+    environment given to the test command, the clone's commands use that one instead."""
+    if os.environ.get(_GIVEN):
+        return
     stamp = ROOT / ".venv" / ".installed"
     want = hashlib.sha256((ROOT / "pyproject.toml").read_bytes()).hexdigest()
     if not stamp.is_file() or stamp.read_text().strip() != want:

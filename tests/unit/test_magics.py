@@ -274,7 +274,7 @@ def test_topic_hz_without_messages_says_so(forward, capsys) -> None:  # noqa: AN
     assert "--duration must be > 0" in _out(capsys)
 
 
-def test_load_ipython_extension_registers_both_magics() -> None:
+def test_load_ipython_extension_registers_the_magics() -> None:
     registered: list[tuple[str, str]] = []
 
     class Shell:
@@ -282,4 +282,4 @@ def test_load_ipython_extension_registers_both_magics() -> None:
             registered.append((kind, name))
 
     load_ipython_extension(Shell())
-    assert registered == [("line", "control"), ("line", "topic")]
+    assert registered == [("line", "control"), ("line", "topic"), ("cell", "pytest")]

@@ -321,3 +321,16 @@ def test_existing_descriptions_keep_working_without_a_package_path() -> None:
     """The course's own robots by name, as before."""
     with rw.bringup("rrbot", "rrbot_controllers.yaml", xacro_args={"use_mock_hardware": True}) as system:
         assert system.hardware_infos and system.mocked_hardware == {}
+
+
+def test_a_file_added_to_an_installed_folder_shows_in_the_next_find(tmp_path: Path) -> None:
+    """The installed tree is worked out on every share_directory(): a new file gives a new view, an unchanged tree
+    the same one; nothing is written in the package."""
+    pkg = _make_package(tmp_path / "grow", "grow_pkg", {"config/a.yaml": "a: 1\n"},
+                        "install(DIRECTORY config DESTINATION share/${PROJECT_NAME})\n")
+    first = packages.share_directory("grow_pkg", [tmp_path])
+    assert packages.share_directory("grow_pkg", [tmp_path]) == first
+    (pkg / "config" / "b.yaml").write_text("b: 1\n")
+    second = packages.share_directory("grow_pkg", [tmp_path])
+    assert second != first and (second / "config" / "b.yaml").read_text() == "b: 1\n"
+    assert sorted(p.name for p in (pkg / "config").iterdir()) == ["a.yaml", "b.yaml"]

@@ -1,27 +1,28 @@
 """ros2_control_demos (jazzy), brought up as its examples' docs say, with mock hardware and documented options only.
 
-The clone is kept outside the project: set ``RRBOT_WORKSHOP_DEMOS`` to its folder
-(``git clone -b jazzy https://github.com/ros-controls/ros2_control_demos``) to run these; without it they skip.
-Each example: its own description and controllers YAML from the clone (found through the package path), its hardware
-plugins mocked (``mock_hardware="unknown"``), the controllers its launch file spawns, and a command on the topic its
-docs use; the joints must move as commanded. Every controllers YAML of the clone must also lint with no error or
-warning other than the ones listed (each one true).
+The demos come from ``shared/upstream``'s tarball, extracted once per session by the ``ros2_control_demos`` fixture
+(``tests/unit/conftest.py``; in CI they are required, never skipped). Each example: its own description and
+controllers YAML from the tree (found through the package path), its hardware plugins mocked
+(``mock_hardware="unknown"``), the controllers its launch file spawns, and a command on the topic its docs use; the
+joints must move as commanded. Every controllers YAML of the tree must also lint with no error or warning other than
+the ones listed (each one true). For every package, ``lint``, the CLI's ``bringup`` and ``rw.bringup`` leave the tree
+unchanged (hashed: content, file types, modes, link targets), and ``$(find pkg)`` shows what colcon would install.
 """
 
 from __future__ import annotations
 
 import math
-import os
+import re
+import shutil
 from pathlib import Path
 
 import pytest
+from package_trees import tree_state, view_files
 
 import rrbot_workshop as rw
 from rrbot_workshop import msgs
-
-D = Path(os.environ.get("RRBOT_WORKSHOP_DEMOS", "/nonexistent"))
-pytestmark = pytest.mark.skipif(not (D / "example_1").is_dir(),
-                                reason="set RRBOT_WORKSHOP_DEMOS to a clone of ros2_control_demos (jazzy)")
+from rrbot_workshop.cli import main
+from rrbot_workshop.description import packages
 
 
 def twist(s, topic, vx, wz):  # noqa: ANN001, ANN201
@@ -106,7 +107,8 @@ CASES = {
 
 
 @pytest.mark.parametrize("number", sorted(CASES))
-def test_example_comes_up_mocked_and_moves(number: int) -> None:
+def test_example_comes_up_mocked_and_moves(number: int, ros2_control_demos: Path) -> None:
+    D = ros2_control_demos  # noqa: N806 - the demos' root, as the cases name their files
     c = CASES[number]
     s = rw.bringup(str(D / c["desc"]), str(D / c["yaml"]), spawn=c["spawn"], package_path=[str(D)],
                    mock_hardware="unknown", launch_args=c.get("launch_args"), xacro_args=c.get("xacro"),
@@ -119,11 +121,11 @@ def test_example_comes_up_mocked_and_moves(number: int) -> None:
             assert out == pytest.approx(c["expect"], abs=1e-3)
 
 
-def test_example_15_two_namespaced_controller_managers() -> None:
-    assert ex15().startswith("MOVES")
+def test_example_15_two_namespaced_controller_managers(ros2_control_demos: Path) -> None:
+    assert ex15(ros2_control_demos).startswith("MOVES")
 
 
-def ex15() -> str:
+def ex15(D: Path) -> str:  # noqa: N803 - the demos' root, as the cases name it
     yaml = str(D / "example_15/bringup/config/multi_controller_manager_rrbot_generic_controllers.yaml")
     a = rw.bringup(str(D / "example_1/description/urdf/rrbot.urdf.xacro"), yaml, xacro_args={"prefix": "rrbot_1_"},
                    namespace="/rrbot_1", package_path=[str(D)], mock_hardware="unknown",
@@ -152,8 +154,10 @@ EXPECTED = {
 }
 
 
-def test_lint_reports_nothing_false_on_the_demos_yaml() -> None:
+def test_lint_reports_nothing_false_on_the_demos_yaml(ros2_control_demos: Path) -> None:
     from rrbot_workshop.tools.lint import lint_controllers
+
+    D = ros2_control_demos  # noqa: N806
 
     for yaml_file in sorted(D.glob("example_*/bringup/config/*.yaml")):
         example = yaml_file.parts[-4]
@@ -164,3 +168,77 @@ def test_lint_reports_nothing_false_on_the_demos_yaml() -> None:
             if f.level == "note":
                 continue
             assert (example, f.where.rpartition(".")[2]) in EXPECTED, f"{yaml_file}: {f}"
+
+
+# ============================================================================ the demos' files are never touched
+#: example_15 has no description of its own: its launch file brings up example_1's and example_5's.
+EX15 = dict(desc="example_1/description/urdf/rrbot.urdf.xacro",
+            yaml="example_15/bringup/config/multi_controller_manager_rrbot_generic_controllers.yaml",
+            xacro={"prefix": "rrbot_1_"}, namespace="/rrbot_1", spawn=["joint_state_broadcaster"])
+
+
+@pytest.mark.parametrize("number", range(1, 18))
+def test_lint_and_both_bringups_leave_the_demos_untouched(number: int, ros2_control_demos: Path,
+                                                         capsys: pytest.CaptureFixture[str]) -> None:
+    """``lint`` (YAML against the description), the CLI's ``bringup`` and ``rw.bringup`` of the example, each through
+    the package path: the whole demos tree is as it was, byte for byte and type for type."""
+    D = ros2_control_demos  # noqa: N806
+    c = CASES.get(number, EX15)
+    before = tree_state(D)
+    args = {**c.get("launch_args", {}), **c.get("xacro", {})}
+    pairs = [f"{k}:={v}" for k, v in args.items()]
+    namespace = ["--namespace", c["namespace"]] if "namespace" in c else []
+    lint = ["lint", str(D / c["yaml"]), "--description", str(D / c["desc"]), "--package-path", str(D)]
+    lint += [f"--xacro-arg={p}" for p in pairs] + [f"--arg={p}" for p in pairs]
+    # example_15's YAML holds both managers' sections; against rrbot_1's description alone, rrbot_2's are findings
+    assert main(lint) in ((0, 1) if number == 15 else (0,)), capsys.readouterr()
+    assert main(["bringup", str(D / c["desc"]), "--controllers", str(D / c["yaml"]), "--package-path", str(D),
+                 "--mock-hardware", "unknown", "--spawn", "joint_state_broadcaster", "--seconds", "0.05",
+                 *[f"--arg={p}" for p in pairs], *namespace]) == 0, capsys.readouterr()
+    with rw.bringup(str(D / c["desc"]), str(D / c["yaml"]), spawn=["joint_state_broadcaster"], package_path=[D],
+                    mock_hardware="unknown", launch_args=c.get("launch_args"), xacro_args=c.get("xacro"),
+                    namespace=c.get("namespace")) as system:
+        assert system.controller_manager.controllers["joint_state_broadcaster"].state.label == "active"
+    assert tree_state(D) == before
+
+
+#: Every package of the tree, by folder: the 17 examples, the shared descriptions, the meta and test packages.
+PACKAGE_FOLDERS = [f"example_{n}" for n in range(1, 18)] + [
+    "ros2_control_demo_description", "ros2_control_demos", "ros2_control_demo_test_utils"]
+_INSTALL = re.compile(r"install\s*\(\s*DIRECTORY\s+([^)]*?)\s+DESTINATION\s+(share/\S+?)\s*\)", re.S)
+
+
+def _colcon_install(package: Path, name: str, prefix: Path) -> Path:
+    """The package's share folder as colcon installs it: a copy of each install(DIRECTORY ...) rule, in order, and
+    package.xml (the demos use no other kind of share rule)."""
+    share = prefix / "share" / name
+    share.mkdir(parents=True)
+    cmake = package / "CMakeLists.txt"
+    for sources, destination in _INSTALL.findall(cmake.read_text() if cmake.is_file() else ""):
+        target = prefix / destination.replace("${PROJECT_NAME}", name)
+        for source in sources.split():
+            shutil.copytree(package / source, target / Path(source).name, dirs_exist_ok=True)
+    shutil.copy(package / "package.xml", share / "package.xml")
+    return share
+
+
+@pytest.mark.parametrize("folder", PACKAGE_FOLDERS)
+def test_find_shows_what_colcon_installs_and_leaves_the_package_untouched(
+        folder: str, ros2_control_demos: Path, tmp_path: Path) -> None:
+    """``$(find pkg)`` of each demo package holds exactly the files colcon would install there, and
+    ``package://pkg/<file>`` resolves to the source file each comes from."""
+    D = ros2_control_demos  # noqa: N806
+    before = tree_state(D)
+    package = packages.package_of(D / folder, [D])
+    assert package is not None and package.path == D / folder
+    share = packages.share_directory(package.name, [D])
+    expected = {str(p.relative_to(installed)): p.read_bytes()
+                for installed in [_colcon_install(D / folder, package.name, tmp_path)]
+                for p in installed.rglob("*") if p.is_file()}
+    if package.maps_through_rules:
+        assert view_files(share) == expected
+    else:  # no share rules (ament_python, a meta package): the folder itself, as for an installed tree
+        assert share == D / folder and expected.keys() == {"package.xml"}
+    for rel, text in expected.items():
+        assert packages.resolve_uri(f"package://{package.name}/{rel}", [D]).read_bytes() == text
+    assert tree_state(D) == before

@@ -162,3 +162,83 @@ def test_the_cli_refuses_an_injected_name_with_exit_2(task_root: Path, tmp_path:
     assert cli.main(["export", "--ros2", str(tmp_path / "ws")]) == 2
     assert "not a valid ROS node name" in capsys.readouterr().err
     assert not (tmp_path / "ws").exists()
+
+
+# ------------------------------------------------------------------------------------------ package.xml and plugin names
+def _set_plugin(task_root: Path, plugin_xml_text: str) -> None:
+    """The hardware plugin of the real-hardware branch of task 2's description (``plugin_xml_text`` as written in the
+    xacro, so ``&lt;`` there is ``<`` in the name)."""
+    path = task_root / tracks.task_name(2) / "rrbot_description" / "urdf" / "rrbot" / "rrbot_macro.ros2_control.xacro"
+    text = path.read_text()
+    assert "controlko_hardware_interface/RRBotHardwareInterface" in text
+    path.write_text(text.replace("controlko_hardware_interface/RRBotHardwareInterface", plugin_xml_text))
+
+
+HOSTILE_PLUGINS = [
+    "x&lt;?evil pi?&gt;/Driver",
+    "&lt;![CDATA[x]]&gt;/Driver",
+    "ab/C&lt;/exec_depend&gt;&lt;exec_depend&gt;evil",
+    "my_driver/Driver&#10;second line",
+    "My_Driver/Driver",
+    "my__driver/Driver",
+    "no_slash_at_all",
+    "a/b/Driver",
+    "pkg/1Driver",
+    "x" * 600 + "/Driver",
+]
+
+
+@pytest.mark.parametrize("plugin", HOSTILE_PLUGINS, ids=lambda p: p[:30])
+def test_a_hardware_plugin_that_is_not_a_plugin_name_is_refused_with_one_line_and_exit_2(
+        plugin: str, task_root: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str],
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    _set_plugin(task_root, plugin)
+    monkeypatch.chdir(tmp_path)
+    assert cli.main(["export", "--ros2", str(tmp_path / "ws"), "--task", "2"]) == 2
+    err = capsys.readouterr().err
+    assert len(err.strip().splitlines()) == 1 and "Traceback" not in err, err
+    assert "not a plugin name" in err and "'<package>/<Class>'" in err and len(err) < 1500
+    assert not (tmp_path / "ws").exists()
+
+
+def test_a_plugin_name_refused_by_default_choice_too(task_root: Path, tmp_path: Path) -> None:
+    """Without --task, a task with a bad name is not exported (and when no task is left, the refusal names it)."""
+    _set_plugin(task_root, "x&lt;?evil?&gt;/Driver")
+    with pytest.raises(CourseError, match="export refused, nothing was written: .*not a plugin name"):
+        export_ros2(tmp_path / "ws")
+    assert not (tmp_path / "ws").exists()
+
+
+def test_a_valid_plugin_of_another_package_becomes_an_exec_depend_read_back_from_the_xml(
+        task_root: Path, tmp_path: Path) -> None:
+    from rrbot_workshop.tools.ros2_package import package_xml_values
+
+    _set_plugin(task_root, "my_robot_driver/MyDriver")
+    result = export_ros2(tmp_path / "ws", task=2)
+    values = package_xml_values((tmp_path / "ws" / "controlko_bringup" / "package.xml").read_text())
+    assert "my_robot_driver" in values["exec_depend"] == result.exec_depends["controlko_bringup"]
+    assert values["name"] == ["controlko_bringup"]
+
+
+@pytest.mark.parametrize("depend", ["a<b", "x?>", "]]>", "Upper", "a__b", "", "a"], ids=repr)
+def test_package_xml_refuses_a_dependency_that_is_not_a_package_name(depend: str) -> None:
+    from rrbot_workshop.tools.ros2_package import package_xml
+
+    with pytest.raises(CourseError, match="is not a ROS package name"):
+        package_xml("controlko_bringup", "d", "ament_cmake", ["xacro", depend])
+
+
+def test_package_xml_escapes_every_value_through_the_xml_library() -> None:
+    from rrbot_workshop.tools.ros2_package import package_xml, package_xml_values
+
+    description = "a <b> & c ]]> <?pi?> <!-- x --> \"q\""
+    text = package_xml("controlko_bringup", description, "ament_cmake", ["xacro"])
+    assert package_xml_values(text)["description"] == [description]
+    assert "<?pi?>" not in text and "<!--" not in text.split("?>", 2)[-1]
+
+
+def test_a_processing_instruction_in_a_package_xml_body_is_caught_by_the_check() -> None:
+    from rrbot_workshop.tools.ros2_package import check_generated
+
+    with pytest.raises(CourseError, match="processing instruction or comment"):
+        check_generated("package.xml", "<?xml version='1.0'?><package><name>a<?evil?></name></package>")

@@ -3,12 +3,11 @@
 from __future__ import annotations
 
 import math
-import subprocess
 from pathlib import Path
 
 import numpy as np
 import pytest
-from browser_driver import CHROMIUM, unavailable
+from browser_driver import CHROMIUM, Browser, unavailable
 
 from rrbot_workshop.viz.viewer import Viewer
 
@@ -44,14 +43,21 @@ URDF = """<?xml version="1.0"?>
 """
 
 
+#: Animation frames the page draws before the screenshot: the work asked of the browser, on any machine.
+FRAMES = 20
+
+
 def _screenshot(html: Path, png: Path, profile: Path) -> None:
-    args = [
-        CHROMIUM, "--headless", "--no-sandbox", "--disable-gpu", "--enable-unsafe-swiftshader",
-        "--disable-background-networking", "--disable-component-update", "--disable-sync", "--no-first-run",
-        f"--user-data-dir={profile}", f"--screenshot={png}", "--window-size=800,600",
-        "--virtual-time-budget=3000", html.as_uri(),
-    ]
-    subprocess.run(args, check=False, capture_output=True, timeout=120)
+    """The page after it has loaded and drawn :data:`FRAMES` frames (software WebGL, 800 x 600)."""
+    assert CHROMIUM is not None
+    browser = Browser(CHROMIUM, profile, size=(800, 600), webgl=True)
+    try:
+        browser.viewport(800, 600)
+        browser.open(html.as_uri())
+        browser.frames(FRAMES)
+        browser.screenshot(png)
+    finally:
+        browser.close()
 
 
 def test_recorded_animation_renders_the_robot(tmp_path: Path):

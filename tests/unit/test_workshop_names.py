@@ -94,9 +94,12 @@ def test_unfinished_driver_is_refused_with_task_file_line_and_options(exercises:
     assert text.startswith(f"'{DRIVER}' is the workshop's name for your task 7 class RRBotHardwareInterface in "
                            f"exercises/{TASK7}/{DRIVER_FILE}, which is unfinished: RRBotHardwareInterface.on_init()")
     assert f"({DRIVER_FILE}, line {error.line})" in text
-    for option in ("finish task 7", "'rrbot_workshop/RRBotHardwareInterface'", "use_mock_hardware:=true",
-                   'mock_hardware="unknown"', "RRBOT_WORKSHOP_TRACK=solutions"):
+    offered = ["finish task 7", "'rrbot_workshop/RRBotHardwareInterface'", "use_mock_hardware:=true",
+               'mock_hardware="unknown"']
+    solutions = "RRBOT_WORKSHOP_TRACK=solutions"  # offered where the course has solutions/ (not in a student copy)
+    for option in offered:
         assert option in text, option
+    assert (solutions in text) == (tracks.course_root() / "solutions").is_dir(), text
 
 
 def test_finished_driver_resolves_to_the_learners_class(exercises: Path) -> None:

@@ -79,7 +79,7 @@ def test_help_exits_0_and_an_unknown_command_exits_2(capsys: pytest.CaptureFixtu
 
     assert main(["--help"], root=ROOT) == 0 and "usage:" in capsys.readouterr().out
     assert main(["frobnicate"], root=ROOT) == 2 and "usage:" in capsys.readouterr().err
-    result = subprocess.run([str(ROOT / ".venv" / "bin" / "python"), "-m", "rrbot_workshop", "--help"],
+    result = subprocess.run([sys.executable, "-m", "rrbot_workshop", "--help"],  # the course's environment
                             capture_output=True, text=True, check=False, cwd=ROOT)
     assert result.returncode == 0 and result.stdout.startswith("usage:")
 
@@ -93,3 +93,66 @@ def test_the_tool_runs_from_any_terminal_through_the_workshop_script() -> None:
                             env=env)
     assert result.returncode == 0, result.stderr
     assert "task01_description" in result.stdout
+
+
+def test_the_test_command_compares_the_notebooks_on_the_exercises_and_runs_them_on_the_solutions(tmp_path: Path) -> None:
+    """One run for the library with the notebooks compared on the untouched exercises, one for the solutions track; a
+    copy without the library's references runs its WITHHELD.json notebooks without comparing, and has no solutions."""
+    from rrbot_workshop.classroom.launcher import planned_runs
+
+    course = tmp_path / "course"
+    (course / "notebooks").mkdir(parents=True)
+    (course / "solutions").mkdir()
+    for name in ("01_a.ipynb", "02_b.ipynb"):
+        (course / "notebooks" / name).write_text("{}")
+    runs = planned_runs(course, {"X": "1"})
+    assert [r[1][0] for r in runs] == ["--nbval", "--nbval-lax"]
+    assert "tests/unit" in runs[0][1] and "notebooks/02_b.ipynb" in runs[0][1]
+    assert runs[0][2]["RRBOT_WORKSHOP_TRACK"] == "exercises" and runs[1][2]["RRBOT_WORKSHOP_TRACK"] == "solutions"
+    assert all(r[2]["X"] == "1" for r in runs)
+
+    copy = tmp_path / "copy"
+    (copy / "notebooks").mkdir(parents=True)
+    for name in ("01_a.ipynb", "02_b.ipynb"):
+        (copy / "notebooks" / name).write_text("{}")
+    (copy / "WITHHELD.json").write_text('{"notebooks": ["notebooks/02_b.ipynb"]}')
+    runs = planned_runs(copy, {})
+    assert [(r[1][0], r[1][-1]) for r in runs] == [("--nbval", "notebooks/01_a.ipynb"),
+                                                   ("--nbval-lax", "notebooks/02_b.ipynb")]
+
+
+def test_the_test_command_counts_what_every_run_tested(tmp_path: Path) -> None:
+    """The counts printed at the end come from each run's JUnit report; a run that wrote none counts nothing."""
+    from rrbot_workshop.classroom.launcher import _tally
+
+    report = tmp_path / "r.xml"
+    report.write_text('<testsuites><testsuite tests="10" failures="1" errors="1" skipped="3"/></testsuites>')
+    assert _tally(report) == (10, 2, 3, 5)
+    assert _tally(tmp_path / "missing.xml") == (0, 0, 0, 0)
+
+
+def test_a_given_environment_is_used_only_when_set_up_from_the_same_pyproject(tmp_path: Path,
+                                                                               monkeypatch: pytest.MonkeyPatch) -> None:
+    """RRBOT_WORKSHOP_PYTHON: the environment's stamp must be this course's pyproject.toml's, and the course's own
+    package must be the one it imports (the course's folder first on PYTHONPATH)."""
+    import hashlib
+
+    from rrbot_workshop.classroom.launcher import PYTHON_ENV, course_env, setup
+
+    venv = tmp_path / "venv"
+    (venv / "bin").mkdir(parents=True)
+    python = venv / "bin" / "python"
+    python.symlink_to(sys.executable)
+    monkeypatch.setenv(PYTHON_ENV, str(python))
+    with pytest.raises(SystemExit, match="not an environment set up from this course's pyproject.toml"):
+        setup(ROOT)
+    (venv / ".installed").write_text(hashlib.sha256((ROOT / "pyproject.toml").read_bytes()).hexdigest())
+    assert setup(ROOT) == python
+    env = course_env(ROOT, {PYTHON_ENV: str(python), "PYTHONPATH": "/elsewhere"})
+    assert env["PYTHONPATH"].split(os.pathsep) == [str(ROOT), "/elsewhere"]
+    assert "PYTHONPATH" not in course_env(ROOT, {})
+    other = tmp_path / "other"  # a course folder whose package the environment cannot import
+    other.mkdir()
+    (other / "pyproject.toml").write_bytes((ROOT / "pyproject.toml").read_bytes())
+    with pytest.raises(SystemExit, match="imports rrbot_workshop from"):
+        setup(other)

@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import json
+import shutil
+import sys
 from pathlib import Path
 
 import pytest
@@ -79,8 +81,11 @@ def test_inside_the_workspace_the_course_grades_and_logs_the_learners_files(
     assert result.source == "archive" and (ws / "exercises" / "task01_fake" / "a.py").read_text().startswith("x = None")
 
 
-def test_init_again_updates_the_course_and_never_the_learners_work(installed: Path, tmp_path: Path) -> None:
+def test_init_again_updates_the_course_and_never_the_learners_work(
+    installed: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
     ws = init_workspace(tmp_path / "ws", installed).workspace
+    monkeypatch.setenv(tracks.ROOT_ENV, str(installed))  # the course installed now
     (ws / "exercises" / "task01_fake" / "a.py").write_text("x = 41  # mine\n")
     (ws / "my_notebooks" / "01_fake.ipynb").write_text(_notebook("one, with my notes"))
     # the course is updated: both exercise files, the notebook, a new task
@@ -89,7 +94,7 @@ def test_init_again_updates_the_course_and_never_the_learners_work(installed: Pa
     (installed / "exercises" / "task02_more").mkdir()
     (installed / "exercises" / "task02_more" / "c.py").write_text("z = None\n")
     (installed / "notebooks" / "01_fake.ipynb").write_text(_notebook("one, updated"))
-    result = init_workspace(ws, now=0.0)  # the source is remembered
+    result = init_workspace(ws, now=0.0)
     assert not result.created
     assert result.updated == ["exercises/task01_fake/b.py"] and (ws / "exercises/task01_fake/b.py").read_text() == "y = 2\n"
     assert result.kept == ["exercises/task01_fake/a.py"]
@@ -100,7 +105,24 @@ def test_init_again_updates_the_course_and_never_the_learners_work(installed: Pa
     assert len(backups) == 1 and "with my notes" in backups[0].read_text()
     assert "updated" in (ws / "my_notebooks" / "01_fake.ipynb").read_text()
     again = init_workspace(ws)  # nothing new: nothing moves
-    assert (again.added, again.updated, again.notebooks) == ([], [], [])
+    assert (again.added, again.updated, again.notebooks, again.notes) == ([], [], [], [])
+
+
+def test_the_workspace_follows_the_course_installed_now_and_says_it_moved(
+    installed: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    ws = init_workspace(tmp_path / "ws", installed).workspace
+    moved = tmp_path / "srv" / "course"
+    shutil.copytree(installed, moved)
+    shutil.rmtree(installed)
+    (moved / "exercises" / "task01_fake" / "b.py").write_text("y = 3\n")
+    monkeypatch.setenv(tracks.ROOT_ENV, str(moved))
+    result = init_workspace(ws)
+    assert result.source == moved and result.updated == ["exercises/task01_fake/b.py"]
+    assert result.notes == [f"this workspace was made from the course at {installed}, which is no longer there: it "
+                            f"now follows the course at {moved}"]
+    assert json.loads((ws / MARKER).read_text())["source"] == str(moved)
+    assert init_workspace(ws).notes == []  # said once
 
 
 def test_init_refuses_what_is_not_a_course_or_would_overwrite_someone(installed: Path, tmp_path: Path) -> None:
@@ -120,7 +142,7 @@ def test_init_refuses_what_is_not_a_course_or_would_overwrite_someone(installed:
 
 def test_the_single_user_server_opens_the_learners_workspace_without_solutions(tmp_path: Path) -> None:
     command = singleuser_command(tmp_path, ["--port=9999"])
-    assert command[0] == "jupyterhub-singleuser" and command[-1] == "--port=9999"
+    assert command[:3] == [sys.executable, "-m", "rrbot_workshop.classroom.server"] and command[-1] == "--port=9999"
     assert f"--ServerApp.root_dir={tmp_path}" in command
     hidden = next(a for a in command if a.startswith("--ContentsManager.hide_globs="))
     assert "'solutions'" in hidden and "'notebooks'" in hidden

@@ -2,9 +2,11 @@
 
 One small JSON file per task next to the learner's files, ``exercises/.progress/taskNN.json`` (git-ignored), written
 each time a learner grades their own exercises (``check(N)`` or ``rrbot-workshop grade N`` on the exercises track).
-It drives the graduated hints (a check's hint goes one level deeper each time it fails again on a new version of
-the learner's files: grading an unchanged file again, or re-running a notebook's self-check cell, does not move it)
-and gives the instructor, through ``rrbot-workshop progress --json``, the number of attempts and the time it took to pass.
+It drives the graduated hints (each attempt records the check that showed its hint and the level shown; the next
+level comes only when that check still fails on a new version of the learner's files, see
+:mod:`~rrbot_workshop.course.grading.hints`: grading an unchanged file again, or re-running a notebook's self-check
+cell, does not move it), holds the predictions sealed before their outcomes were shown
+(:mod:`~rrbot_workshop.course.grading.sealed`), and gives the instructor, through ``rrbot-workshop progress --json``, the number of attempts and the time it took to pass.
 Grading a copy (``--root``), the solutions track or the course's own tests records nothing.
 """
 
@@ -19,8 +21,7 @@ from typing import Any
 
 from rrbot_workshop.course import tracks
 
-__all__ = ["log_path", "load", "record", "failures", "failed_versions", "files_version", "summary",
-           "recording_enabled"]
+__all__ = ["log_path", "load", "record", "failures", "files_version", "summary", "recording_enabled", "write"]
 
 #: Set to "0" to grade without writing the log (the course's tests do).
 ENV = "RRBOT_WORKSHOP_RECORD_ATTEMPTS"
@@ -63,8 +64,22 @@ def files_version(folder: Path) -> str:
     return digest.hexdigest()[:16]
 
 
+def write(task: int, data: dict[str, Any], exercises: str | os.PathLike[str] | None = None) -> bool:
+    """Write the task's log (atomically); False if it cannot be written (a read-only course folder only loses it)."""
+    path = log_path(task, exercises)
+    tmp = path.with_name(path.name + ".tmp")
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        tmp.write_text(json.dumps(data, indent=1) + "\n")
+        os.replace(tmp, path)
+    except OSError:
+        return False
+    return True
+
+
 def record(task: int, score: float, max_score: float, failed: list[str], now: float | None = None,
-           version: str = "", reasons: dict[str, str] | None = None) -> None:
+           version: str = "", reasons: dict[str, str] | None = None,
+           hints: dict[str, int] | None = None) -> dict[str, Any]:
     """Append one attempt; never raises (a read-only course folder only loses the log).
 
     Args:
@@ -75,34 +90,24 @@ def record(task: int, score: float, max_score: float, failed: list[str], now: fl
         now: Time of the attempt (seconds since the epoch); default now.
         version: :func:`files_version` of the graded files.
         reasons: Why each failed check failed (for the instructor's room report), at most 300 characters each.
+        hints: The check that showed its hint -> the level shown (0-based).
+
+    Returns:
+        The attempt as recorded.
     """
     data = load(task)
-    data["attempts"].append({"time": time.time() if now is None else now, "score": score, "max_score": max_score,
-                             "failed": sorted(failed), "version": version,
-                             "reasons": {k: str(v)[:300] for k, v in sorted((reasons or {}).items())}})
-    path = log_path(task)
-    try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        path.write_text(json.dumps(data, indent=1) + "\n")
-    except OSError:
-        pass
+    attempt = {"time": time.time() if now is None else now, "score": score, "max_score": max_score,
+               "failed": sorted(failed), "version": version,
+               "reasons": {k: str(v)[:300] for k, v in sorted((reasons or {}).items())},
+               "hints": dict(hints or {})}
+    data["attempts"].append(attempt)
+    write(task, data)
+    return attempt
 
 
 def failures(task: int, check: str) -> int:
     """How many recorded attempts failed ``check``."""
     return sum(check in a.get("failed", []) for a in load(task)["attempts"])
-
-
-def failed_versions(task: int, check: str, current: str) -> int:
-    """How many other versions of the learner's files failed ``check`` before (``current`` not counted).
-
-    The hint level of a failing check: the first failing version gets the first hint, each new version that still
-    fails the next one; grading the same files again gives the same hint. Attempts logged before versions were
-    recorded count as one version.
-    """
-    versions = {str(a.get("version") or "") for a in load(task)["attempts"] if check in a.get("failed", [])}
-    versions.discard(current)
-    return len(versions)
 
 
 def summary(task: int, exercises: str | os.PathLike[str] | None = None) -> dict[str, Any]:

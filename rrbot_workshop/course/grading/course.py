@@ -8,25 +8,35 @@ git repository of its own; it also carries the exercises in ``.pristine/exercise
 
 from __future__ import annotations
 
+import gzip
 import io
 import logging
 import os
 import re
 import shutil
+import stat
 import subprocess
 import tarfile
 import zipfile
+import zlib
 from collections.abc import Callable
 from dataclasses import dataclass
 from datetime import datetime
 from pathlib import Path, PurePosixPath
 
 from rrbot_workshop.course import tracks
-from rrbot_workshop.course.grading.references import readme_section, write_withheld_copy
+from rrbot_workshop.course.grading.references import (
+    README_END,
+    README_MARK,
+    instructor_only,
+    readme_section,
+    write_withheld_copy,
+)
 from rrbot_workshop.exceptions import CourseError
 
 __all__ = ["PRISTINE_ARCHIVE", "EXPORT_EXCLUDE", "ResetResult", "pristine_files", "reset_exercise",
-           "export_student_copy", "uncommitted_changes"]
+           "export_student_copy", "uncommitted_changes", "read_pristine_archive", "pristine_archive_bytes",
+           "ARCHIVE_MAX_MEMBERS", "ARCHIVE_MAX_BYTES"]
 
 logger = logging.getLogger(__name__)
 
@@ -65,20 +75,83 @@ def _git_pristine(root: Path, folder: str) -> dict[str, bytes] | None:
     return files
 
 
-def _archive_pristine(root: Path, folder: str) -> dict[str, bytes] | None:
-    archive = root / PRISTINE_ARCHIVE
-    if not archive.is_file():
-        return None
+#: What a pristine archive may hold: members, bytes in all (unpacked) and bytes read from disk. A course's exercises are
+#: a few hundred kB; the archive sits in a learner's folder, where it may be damaged or replaced by anything.
+ARCHIVE_MAX_MEMBERS = 10_000
+ARCHIVE_MAX_BYTES = 256 * 1024 * 1024
+
+
+def read_pristine_archive(archive: Path) -> dict[str, bytes]:
+    """The files of a pristine archive (course-relative POSIX path -> bytes), read within bounds.
+
+    Only regular files with a relative path that stays inside the course are taken (links, folders and ``..`` are
+    skipped). The archive itself must be a regular file: a link, a FIFO or a device is never opened.
+
+    Args:
+        archive: The ``.tar.gz`` file (:data:`PRISTINE_ARCHIVE` in a course folder).
+
+    Raises:
+        CourseError: If the archive is missing, not a regular file, damaged (truncated, not gzip, not tar) or larger
+            than :data:`ARCHIVE_MAX_BYTES` unpacked or :data:`ARCHIVE_MAX_MEMBERS` members.
+    """
+    def damaged(why: str) -> CourseError:
+        return CourseError("pristine archive", str(archive), f"{archive} {why}")
+
+    try:
+        info = os.lstat(archive)
+    except OSError as exc:
+        raise damaged(f"cannot be read ({exc.strerror or exc})") from None
+    if not stat.S_ISREG(info.st_mode):
+        raise damaged("is not a regular file")
+    if info.st_size > ARCHIVE_MAX_BYTES:
+        raise damaged(f"is {info.st_size} bytes, more than the {ARCHIVE_MAX_BYTES} an archive of exercises may have")
     files: dict[str, bytes] = {}
-    with tarfile.open(archive, "r:gz") as tar:
-        for member in tar.getmembers():
-            path = PurePosixPath(member.name)
-            if not member.isfile() or ".." in path.parts or path.is_absolute():
-                continue
-            if path.parts[: len(PurePosixPath(folder).parts)] == PurePosixPath(folder).parts:
+    total = 0
+    try:
+        fd = os.open(archive, os.O_RDONLY | getattr(os, "O_NOFOLLOW", 0) | getattr(os, "O_NONBLOCK", 0))
+        with os.fdopen(fd, "rb") as raw, tarfile.open(fileobj=raw, mode="r:gz") as tar:
+            for count, member in enumerate(tar, start=1):
+                if count > ARCHIVE_MAX_MEMBERS:
+                    raise damaged(f"holds more than {ARCHIVE_MAX_MEMBERS} members")
+                path = PurePosixPath(member.name)
+                if not member.isfile() or ".." in path.parts or path.is_absolute():
+                    continue
+                total += member.size
+                if total > ARCHIVE_MAX_BYTES:
+                    raise damaged(f"unpacks to more than {ARCHIVE_MAX_BYTES} bytes")
                 extracted = tar.extractfile(member)
                 if extracted is not None:
-                    files[str(path.relative_to(folder))] = extracted.read()
+                    files[str(path)] = extracted.read(member.size)
+    except CourseError:
+        raise
+    except (tarfile.TarError, EOFError, OSError, zlib.error, ValueError) as exc:
+        raise damaged(f"is damaged ({type(exc).__name__}: {exc})") from None
+    return files
+
+
+def pristine_archive_bytes(files: dict[str, bytes]) -> bytes:
+    """A pristine archive of ``files`` (course-relative POSIX path -> bytes), the same bytes for the same files."""
+    buffer = io.BytesIO()
+    with gzip.GzipFile(fileobj=buffer, mode="wb", mtime=0) as packed, tarfile.open(fileobj=packed, mode="w") as tar:
+        for rel, data in sorted(files.items()):
+            info = tarfile.TarInfo(rel)
+            info.size, info.mode, info.mtime = len(data), 0o644, 0
+            tar.addfile(info, io.BytesIO(data))
+    return buffer.getvalue()
+
+
+def _archive_pristine(root: Path, folder: str) -> dict[str, bytes] | None:
+    archive = root / PRISTINE_ARCHIVE
+    if not os.path.lexists(archive):
+        return None
+    try:
+        everything = read_pristine_archive(archive)
+    except CourseError as exc:
+        raise CourseError("pristine archive", str(archive), f"{exc}; in a workspace, `rrbot-workshop init` rebuilds it "
+                          "from the installed course") from None
+    prefix = PurePosixPath(folder).parts
+    files = {str(PurePosixPath(rel).relative_to(folder)): data for rel, data in everything.items()
+             if PurePosixPath(rel).parts[: len(prefix)] == prefix}
     return files or None
 
 
@@ -126,12 +199,18 @@ class ResetResult:
 
 
 def _backup_dir(root: Path, task: int, now: datetime) -> Path:
+    """A new, empty backup folder ``backups/taskNN_<YYYYmmdd-HHMMSS>/`` (``..._2/``, ... when the name is taken): it is
+    made here, with an exclusive mkdir, so two resets in the same second never share one."""
     base = root / "backups" / f"task{task:02d}_{now:%Y%m%d-%H%M%S}"
-    candidate, n = base, 1
-    while candidate.exists():
-        n += 1
-        candidate = base.with_name(f"{base.name}_{n}")
-    return candidate
+    base.parent.mkdir(parents=True, exist_ok=True)
+    for n in range(1, 10_000):
+        candidate = base if n == 1 else base.with_name(f"{base.name}_{n}")
+        try:
+            candidate.mkdir()
+            return candidate
+        except FileExistsError:
+            continue
+    raise FileExistsError(f"no free backup folder name for {base}")
 
 
 def reset_exercise(task: int, *, now: datetime | None = None) -> ResetResult:
@@ -152,12 +231,13 @@ def reset_exercise(task: int, *, now: datetime | None = None) -> ResetResult:
     folder = root / "exercises" / tracks.task_name(task)
     backup: Path | None = None
     if folder.exists():
-        backup = _backup_dir(root, task, now or datetime.now())
         try:
-            shutil.copytree(folder, backup)
+            backup = _backup_dir(root, task, now or datetime.now())
+            shutil.copytree(folder, backup, symlinks=True, dirs_exist_ok=True)
         except OSError as exc:
-            shutil.rmtree(backup, ignore_errors=True)
-            raise CourseError("backup folder", str(backup.parent),
+            if backup is not None:
+                shutil.rmtree(backup, ignore_errors=True)
+            raise CourseError("backup folder", str(root / "backups"),
                               f"cannot back up your files there ({exc.strerror or exc}); nothing was changed. Make "
                               "'backups/' writable (or free some space) and reset again") from None
     # the pristine files go to a folder beside the exercise first; the learner's folder is swapped out only once
@@ -192,8 +272,13 @@ def reset_exercise(task: int, *, now: datetime | None = None) -> ResetResult:
 def _ignore(root: Path) -> Callable[[str, list[str]], set[str]]:
     def ignore(directory: str, names: list[str]) -> set[str]:
         skipped = {n for n in names if n in EXPORT_EXCLUDE or n.endswith(".egg-info")}
-        if Path(directory).resolve() == root:
+        here = Path(directory).resolve()
+        if here == root:
             skipped |= {n for n in names if n in EXPORT_EXCLUDE_TOP}
+        rel = here.relative_to(root) if here.is_relative_to(root) else None
+        if rel is not None:
+            skipped |= {n for n in names if instructor_only((rel / n).as_posix())
+                        or instructor_only((rel / n).as_posix() + "/x")}
         return skipped
 
     return ignore
@@ -224,18 +309,22 @@ def _student_readme(text: str) -> str:
 
 
 def _with_section(text: str, section: str) -> str:
-    """``text`` with ``section`` before its "## License" heading (at the end if it has none)."""
+    """``text`` with ``section`` before its "## License" heading (at the end if it has none), in place of the one an
+    earlier export wrote (a copy of a student copy)."""
+    text = re.sub(re.escape(README_MARK) + ".*?" + re.escape(README_END), "\n", text, flags=re.DOTALL)
     at = text.find("\n## License")
     return text.rstrip("\n") + "\n" + section if at < 0 else text[:at].rstrip("\n") + "\n" + section + text[at:]
 
 
 def _exported(rel: str) -> bool:
     parts = PurePosixPath(rel).parts
-    return not (parts[0] in EXPORT_EXCLUDE_TOP or any(p in EXPORT_EXCLUDE or p.endswith(".egg-info") for p in parts))
+    return not (parts[0] in EXPORT_EXCLUDE_TOP or any(p in EXPORT_EXCLUDE or p.endswith(".egg-info") for p in parts)
+                or instructor_only(rel))
 
 
 def export_student_copy(dest: str | os.PathLike[str], *, withhold_references: bool = False) -> Path:
-    """Write a copy of the course for learners, as released: the files committed at git ``HEAD``, no ``solutions/``.
+    """Write a copy of the course for learners, as released: the files committed at git ``HEAD``, no ``solutions/`` and
+    none of the graders' own wrong and right solutions (:data:`~rrbot_workshop.course.grading.references.INSTRUCTOR_ONLY`).
 
     The copy is built from git, never from the working tree, so an instructor's solved exercises or edits that are
     not committed never reach learners (:func:`uncommitted_changes` lists what was left out). The README loses its
@@ -284,18 +373,10 @@ def export_student_copy(dest: str | os.PathLike[str], *, withhold_references: bo
         readme.write_text(_with_section(_student_readme(readme.read_text()), readme_section(withhold_references)))
     archive = target / PRISTINE_ARCHIVE
     archive.parent.mkdir(parents=True, exist_ok=True)
-    buffer = io.BytesIO()
-    with tarfile.open(fileobj=buffer, mode="w:gz") as tar:
-        exercises = target / "exercises"
-        if exercises.is_dir():
-            for path in sorted(p for p in exercises.rglob("*") if p.is_file()):
-                rel = path.relative_to(target).as_posix()
-                info = tarfile.TarInfo(rel)
-                data = path.read_bytes()
-                info.size = len(data)
-                info.mode = 0o644
-                tar.addfile(info, io.BytesIO(data))
-    archive.write_bytes(buffer.getvalue())
+    exercises = target / "exercises"
+    handed_out = ({path.relative_to(target).as_posix(): path.read_bytes()
+                   for path in sorted(exercises.rglob("*")) if path.is_file()} if exercises.is_dir() else {})
+    archive.write_bytes(pristine_archive_bytes(handed_out))
     if snapshot is not None:
         _init_repository(target)
     logger.info("wrote a student copy of %s to %s", root, target)

@@ -28,12 +28,14 @@ import pytest
 
 from rrbot_workshop.course.grading.learner_errors import LEARNER_LOGGER, LearnerErrorLog, learner_location, learner_root
 from rrbot_workshop.course.grading.references import WITHHELD_SKIP
-from rrbot_workshop.course.grading.rubric import check_spec
+from rrbot_workshop.course.grading.rubric import HintlessFailure, check_spec
 
 __all__ = ["CheckTimeout", "RubricCollector"]
 
 #: Exit status of a grader process ended by the watchdog (platforms without SIGALRM).
 WATCHDOG_EXIT = 86
+#: A check may wait (not compute) this many times its CPU-time limit before it is stopped.
+WALL_FACTOR = 10.0
 
 
 class CheckTimeout(BaseException):  # noqa: N818 - reads as an event, like KeyboardInterrupt
@@ -129,31 +131,45 @@ class RubricCollector:
     # ------------------------------------------------------------------ time limit
     @contextmanager
     def time_limit(self, nodeid: str, phase: str) -> Iterator[None]:
-        """Raise :class:`CheckTimeout` in the block (or end the process) after :attr:`timeout` seconds."""
+        """Raise :class:`CheckTimeout` in the block once it has used :attr:`timeout` seconds of CPU.
+
+        The limit is CPU time, not wall-clock time, so an endless loop is stopped while a slow or busy machine (a room of
+        learners grading at once, a test run on every core) is not taken for one. A block that waits without computing
+        (a learner's code blocked on a read) is stopped after :data:`WALL_FACTOR` times the limit in wall-clock time.
+        """
         if self.timeout <= 0:
             yield
             return
-        message = f"the check's {phase} took longer than {self.timeout:g} s (an endless loop?)"
-        if hasattr(signal, "SIGALRM") and threading.current_thread() is threading.main_thread():
+        message = f"the check's {phase} used more than {self.timeout:g} s of CPU time (an endless loop?)"
+        waited = (f"the check's {phase} waited more than {self.timeout * WALL_FACTOR:g} s without finishing (is "
+                  "something blocked, waiting for input?)")
+        if hasattr(signal, "SIGPROF") and threading.current_thread() is threading.main_thread():
 
-            def on_alarm(signum: int, frame: Any) -> None:
+            def on_cpu(signum: int, frame: Any) -> None:
                 raise CheckTimeout(message)
 
-            previous = signal.signal(signal.SIGALRM, on_alarm)
-            signal.setitimer(signal.ITIMER_REAL, self.timeout)
+            def on_wall(signum: int, frame: Any) -> None:
+                raise CheckTimeout(waited)
+
+            previous = signal.signal(signal.SIGPROF, on_cpu), signal.signal(signal.SIGALRM, on_wall)
+            signal.setitimer(signal.ITIMER_PROF, self.timeout)
+            signal.setitimer(signal.ITIMER_REAL, self.timeout * WALL_FACTOR)
             try:
                 yield
             finally:
+                signal.setitimer(signal.ITIMER_PROF, 0)
                 signal.setitimer(signal.ITIMER_REAL, 0)
-                signal.signal(signal.SIGALRM, previous)
+                signal.signal(signal.SIGPROF, previous[0])
+                signal.signal(signal.SIGALRM, previous[1])
             return
+        message = f"the check's {phase} took longer than {self.timeout * WALL_FACTOR:g} s (an endless loop?)"
 
         def expire() -> None:
             self._fail(nodeid, f"CheckTimeout: {message}")
             self.dump()
             os._exit(WATCHDOG_EXIT)
 
-        watchdog = threading.Timer(self.timeout, expire)
+        watchdog = threading.Timer(self.timeout * WALL_FACTOR, expire)
         watchdog.daemon = True
         watchdog.start()
         try:
@@ -172,16 +188,25 @@ class RubricCollector:
             func = getattr(item, "function", None)
             spec = check_spec(func) if func is not None else check_spec(lambda: None)
             name = item.name[len("test_"):] if item.name.startswith("test_") else item.name
+            function = getattr(item, "originalname", item.name)
             self.checks[item.nodeid] = {
                 "nodeid": item.nodeid,
                 "name": name,
+                "function": function[len("test_"):] if function.startswith("test_") else function,
                 "max_points": spec.points,
                 "hint": spec.hint,
                 "hints": list(spec.hints),
                 "given": spec.given,
+                "after": [a[len("test_"):] if a.startswith("test_") else a for a in spec.after],
                 "status": "pending",
                 "detail": "",
             }
+        functions = {entry["function"] for entry in self.checks.values()}
+        for entry in self.checks.values():
+            unknown = [a for a in entry["after"] if a not in functions]
+            if unknown:  # a grader's own mistake: the chain of causes would silently lose a link
+                self.errors.append(f"{entry['nodeid']}: graded(after=...) names {unknown}, which are not checks of "
+                                   f"this grader; its checks are {sorted(functions)}")
         self.dump()
 
     @pytest.hookimpl(wrapper=True)
@@ -232,6 +257,9 @@ class RubricCollector:
                 detail = f"{learner}; then: {detail}"
             if call.when != "call":
                 detail = f"in {call.when}: {detail}"
+            if isinstance(exc, HintlessFailure) and entry["status"] != "failed":
+                entry["hintless"] = True  # a prediction not made yet: any hint would answer it
+                detail = f"{detail} ({exc.note})" if exc.note else detail
             self._fail(item.nodeid, detail)
         elif report.skipped:
             reason = report.longrepr[2] if isinstance(report.longrepr, tuple) else str(report.longrepr)

@@ -23,18 +23,48 @@ code with a withheld reference are shown as GIVEN (the rule-by-rule checks still
 
 from __future__ import annotations
 
+import fnmatch
 import json
 from dataclasses import dataclass
-from pathlib import Path
+from pathlib import Path, PurePosixPath
 
-__all__ = ["LibraryReference", "REFERENCES", "STAND_INS", "MANIFEST", "WITHHELD_SKIP", "readme_section", "withheld",
-           "is_withheld", "reference_or_skip", "write_withheld_copy"]
+__all__ = ["LibraryReference", "REFERENCES", "STAND_INS", "MANIFEST", "WITHHELD_SKIP", "INSTRUCTOR_ONLY", "readme_section",
+           "withheld", "is_withheld", "reference_or_skip", "write_withheld_copy", "instructor_only", "README_MARK",
+           "README_END"]
+
+#: What no student copy holds, with or without ``--withhold-references`` (course-relative POSIX patterns; a pattern
+#: ending in ``/`` is a folder): the graders' own wrong and right solutions. Each is written from ``solutions/`` or is a
+#: complete answer written another way, so pasted into an exercise it would score; they test the graders, which the
+#: instructor's copy does.
+INSTRUCTOR_ONLY: tuple[str, ...] = (
+    "tests/unit/grader_variants.py",
+    "tests/unit/test_grader_task[0-9][0-9].py",
+    "tests/unit/task[0-9][0-9]_alternatives/",
+    # the task-16 grader's hidden wrong controllers: a copy grades against its public ones
+    "tests/tasks/task16_mutants/",
+)
+
+
+def instructor_only(rel: str) -> bool:
+    """True for a course-relative path that no student copy holds (see :data:`INSTRUCTOR_ONLY`)."""
+    path = PurePosixPath(rel)
+    for pattern in INSTRUCTOR_ONLY:
+        if pattern.endswith("/"):
+            depth = len(PurePosixPath(pattern).parts)
+            if len(path.parts) > depth and fnmatch.fnmatchcase(PurePosixPath(*path.parts[:depth]).as_posix(),
+                                                               pattern.rstrip("/")):
+                return True
+        elif fnmatch.fnmatchcase(path.as_posix(), pattern):
+            return True
+    return False
 
 #: How a grader's check that needs a withheld reference skips; the rubric shows it as GIVEN (no points either way).
 WITHHELD_SKIP = "withheld:"
 
 #: Written at the root of a copy made with ``--withhold-references``: what it left out.
 MANIFEST = "WITHHELD.json"
+#: Around the sections :func:`readme_section` writes into a copy's README (a copy of a copy replaces them).
+README_MARK, README_END = "\n<!-- student copy -->", "<!-- /student copy -->\n"
 
 
 @dataclass(frozen=True)
@@ -69,7 +99,8 @@ REFERENCES: tuple[LibraryReference, ...] = (
                      "a complete DisplacementController with its parameter validator",
                      module="rrbot_workshop.controllers.displacement",
                      tests=("tests/unit/test_displacement_controller.py",),
-                     notebooks=("notebooks/08_write_a_controller.ipynb",)),
+                     # notebook 16 runs the learner's task-8 class, or this one while it is unfinished
+                     notebooks=("notebooks/08_write_a_controller.ipynb", "notebooks/16_test_your_controller.ipynb")),
     LibraryReference("rrbot_workshop/motion.py", (13,),
                      "jerk_limited_trajectory(): limits, ruckig planning and sampling as a JointTrajectory",
                      module="rrbot_workshop.motion", tests=("tests/unit/test_motion.py",),
@@ -82,6 +113,18 @@ REFERENCES: tuple[LibraryReference, ...] = (
                      kept="notebook 10 runs on them until your own files of task 10 are complete"),
     LibraryReference("descriptions/multi_rrbot/", (11,), "two prefixed RRBots: the xacro and the controllers YAML",
                      kept="notebook 11 runs on them until your own files of task 11 are complete"),
+    LibraryReference("descriptions/my_robot/", (15,),
+                     "MyRobot's package: its <ros2_control> tags and a controllers YAML in Jazzy's layout (other "
+                     "controllers than task 15.4 asks for)",
+                     kept="notebook 15 brings MyRobot up from these files"),
+    LibraryReference("rrbot_workshop/joint_limits/", (15,),
+                     "Jazzy's joint limiters, which your write of task 15 applies (the grader compares with them)",
+                     kept="they are ros2_control's joint_limits, which task 15 asks you to call; notebook 15 runs them"),
+    LibraryReference("rrbot_workshop/ (any running system)", (6, 14),
+                     "what each request of task 6 and each fault of task 14 does, for anyone who runs it before "
+                     "predicting",
+                     kept="it is ros2_control; the self-checks grade each prediction as it was when notebook 06 or 14 "
+                          "first showed its outcome"),
 )
 
 _WITHHELD_NOTE = ('"""Withheld from this copy of the course: the library\'s reference for task {task} ({answers}).\n\n'
@@ -197,10 +240,20 @@ def reference_or_skip(module: str) -> object:
 
 
 def readme_section(withhold: bool) -> str:
-    """The student README's section on what the library contains that answers tasks."""
-    lines = ["", "## What the library contains that answers tasks", "",
-             "The course runs on a library that implements ros2_control, so some of its files are worked answers to "
-             "tasks:", ""]
+    """The student README's sections on what this copy leaves out and what the library contains that answers tasks."""
+    lines = ["", "## What this copy leaves out", "",
+             "- `solutions/`: the finished files of every task.",
+             "- The graders' own wrong and right solutions, which test the graders in the instructor's copy: "
+             + ", ".join(f"`{p}`" for p in INSTRUCTOR_ONLY) + ".",
+             ]
+    if withhold:
+        lines.append("- The library's Python references for tasks 7, 8 and 13 (below) and their unit tests: "
+                     + ", ".join(f"`{t}`" for ref in REFERENCES for t in ref.tests) + ".")
+    lines += ["", "The graders in `tests/tasks/` stay: they are the self-checks. Each check's hints come one level at "
+              "a time (the idea, the API, then the code), and only for the first cause of a failure.",
+              "", "## What the library contains that answers tasks", "",
+              "The course runs on a library that implements ros2_control, so some of its files are worked answers to "
+              "tasks:", ""]
     for ref in REFERENCES:
         tasks = ", ".join(str(t) for t in ref.tasks)
         if ref.module:
@@ -218,7 +271,7 @@ def readme_section(withhold: bool) -> str:
     else:
         lines.append("An instructor can leave the Python references out of a copy: `rrbot-workshop export --student "
                      "DIR --withhold-references`.")
-    return "\n".join(lines) + "\n"
+    return README_MARK + "\n".join(lines) + "\n" + README_END
 
 
 def write_withheld_copy(target: Path) -> list[str]:

@@ -9,9 +9,10 @@ from __future__ import annotations
 import json
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import Any, TypeVar
+from typing import Any, NoReturn, TypeVar
 
-__all__ = ["CheckSpec", "graded", "check_spec", "CheckResult", "Rubric", "DEFAULT_POINTS"]
+__all__ = ["CheckSpec", "graded", "check_spec", "CheckResult", "Rubric", "DEFAULT_POINTS", "HintlessFailure",
+           "fail_without_hint"]
 
 #: Points of a grader test that has no :func:`graded` decorator.
 DEFAULT_POINTS = 1.0
@@ -72,6 +73,36 @@ def graded(
     return mark
 
 
+class HintlessFailure(AssertionError):
+    """A check's failure that shows no hint (see :func:`fail_without_hint`).
+
+    Attributes:
+        note: Why no hint is shown, added to the reason whatever it becomes (the learner's own error, when it is the
+            cause, takes the reason's place).
+    """
+
+    def __init__(self, reason: str, note: str = "") -> None:
+        super().__init__(reason)
+        self.note = note
+
+
+def fail_without_hint(reason: str, note: str = "") -> NoReturn:
+    """Fail the running check with ``reason`` and no hint.
+
+    For a failure where any hint would hand over the answer or has nothing left to teach: a prediction not made yet
+    (its hint would state the outcome), or one changed after its outcome was shown. The check leaves the hint to the
+    learner's next cause.
+
+    Args:
+        reason: Why the check failed.
+        note: Why it shows no hint (added to the reason in brackets).
+
+    Raises:
+        HintlessFailure: Always.
+    """
+    raise HintlessFailure(reason, note)
+
+
 def check_spec(func: Callable[..., Any]) -> CheckSpec:
     """The :class:`CheckSpec` of a grader test (1 point and its docstring's first line if undecorated)."""
     spec = getattr(func, "__rubric_check__", None)
@@ -93,8 +124,11 @@ class CheckResult:
         name: Check name (the test function's name without ``test_``).
         max_points: Points the check is worth.
         passed: Whether it passed.
-        hint: The check's hint when it failed, else ``""``.
+        hint: The check's hint when it is the learner's first cause, else ``""``.
         detail: First lines of the failure (assertion message, error, timeout), else ``""``.
+        given: The handed-out exercise already satisfies it: shown, never scored.
+        same_as: An earlier failed check with the same reason (the reason is given once).
+        blocked_by: The failed check this one builds on (``graded(after=...)``): its failure is that one's.
     """
 
     name: str
@@ -104,17 +138,26 @@ class CheckResult:
     detail: str = ""
     given: bool = False
     same_as: str = ""
+    blocked_by: str = ""
 
     @property
     def points(self) -> float:
         """Points earned: all of them or none."""
         return self.max_points if self.passed else 0.0
 
+    @property
+    def reason(self) -> str:
+        """Why it failed, as the learner reads it: the check it waits for, else its own detail."""
+        if self.passed:
+            return ""
+        return f"fails because {self.blocked_by} fails: fix that first" if self.blocked_by else self.detail
+
     def to_dict(self) -> dict[str, Any]:
         """The JSON form: ``{"name", "points", "max_points", "passed", "given", "hint", "reason"}``.
 
         ``reason`` is why a failed check failed (``""`` when it passed); when several checks fail for the same reason
-        (a file that does not parse), it is given once and the others say ``"same_as": "<first check>"``.
+        (a file that does not parse), it is given once and the others say ``"same_as": "<first check>"``. A check that
+        fails because a check it builds on fails says so as its reason and names it: ``"after": "<that check>"``.
         """
         out: dict[str, Any] = {
             "name": self.name,
@@ -123,9 +166,11 @@ class CheckResult:
             "passed": self.passed,
             "given": self.given,
             "hint": self.hint,
-            "reason": "" if self.passed or self.same_as else self.detail,
+            "reason": "" if self.passed or self.same_as else self.reason,
         }
-        if self.same_as:
+        if self.blocked_by and not self.passed:
+            out["after"] = self.blocked_by
+        elif self.same_as:
             out["same_as"] = self.same_as
         return out
 
@@ -139,12 +184,14 @@ class Rubric:
         checks: Check outcomes in the grader's order.
         title: Task folder name, e.g. ``"task01_description"`` (text output only).
         track: Track that was graded (text output only).
+        cause: The failed check that shows its hint: the learner's first cause (``""``: none).
     """
 
     task: int
     checks: list[CheckResult] = field(default_factory=list)
     title: str = ""
     track: str = ""
+    cause: str = ""
 
     @property
     def score(self) -> float:
@@ -172,7 +219,8 @@ class Rubric:
         """Failed checks with the reason of an earlier failed check point to it instead of repeating it."""
         first: dict[str, str] = {}
         for c in self.checks:
-            if c.passed or not c.detail:
+            c.same_as = ""
+            if c.passed or not c.detail or c.blocked_by:
                 continue
             if c.detail in first:
                 c.same_as = first[c.detail]
@@ -209,10 +257,15 @@ class Rubric:
             if not c.passed:
                 if c.hint:
                     lines.append(f"        hint: {c.hint}")
-                if details and c.same_as:
+                if c.blocked_by:
+                    lines.append(f"        why:  {c.reason}")
+                elif details and c.same_as:
                     lines.append(f"        why:  the same as for {c.same_as} above")
                 elif details and c.detail:
                     lines.append(f"        why:  {c.detail}")
+        waiting = [c.name for c in self.checks if not c.passed and not c.blocked_by and c.name != self.cause]
+        if self.cause and waiting:
+            lines.append(f"Hints come one cause at a time: fix {self.cause} first, then check again.")
         lines.append(f"Total: {_fmt(self.score)}/{_fmt(self.max_score)} points")
         return "\n".join(lines)
 

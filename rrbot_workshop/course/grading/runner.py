@@ -17,7 +17,8 @@ from pathlib import Path
 from typing import Any
 
 from rrbot_workshop.course import tracks
-from rrbot_workshop.course.grading import attempts
+from rrbot_workshop.course.grading import attempts, live_view
+from rrbot_workshop.course.grading.hints import CheckEntry, plan_hints
 from rrbot_workshop.course.grading.rubric import CheckResult, Rubric
 from rrbot_workshop.exceptions import CourseError, GradingError
 
@@ -77,13 +78,38 @@ def _rubric_from(task: int, data: dict[str, Any], stopped: str) -> Rubric:
                 name=str(entry["name"]),
                 max_points=float(entry["max_points"]),
                 passed=passed,
-                hint="" if passed else str(entry.get("hint", "")),
                 detail="" if passed else detail,
                 given=bool(entry.get("given", False)),
             )
         )
     rubric.mark_shared_reasons()
     return rubric
+
+
+def _assign_hints(rubric: Rubric, entries: list[dict[str, Any]], log: list[dict[str, Any]], version: str) -> dict[str, int]:
+    """Give the hint to the learner's first cause and mark the checks that wait for another (see :mod:`.hints`);
+    returns ``{check: level}`` of the hint shown, for the attempt log."""
+    checks = [
+        CheckEntry(name=result.name, function=str(entry.get("function") or result.name), passed=result.passed,
+                   levels=tuple(str(h) for h in entry.get("hints") or [entry.get("hint", "")] if h),
+                   after=tuple(str(a) for a in entry.get("after") or ()), hintless=bool(entry.get("hintless")))
+        for entry, result in zip(entries, rubric.checks, strict=True)
+    ]
+    plan = plan_hints(checks, log, version)
+    for check, result in zip(checks, rubric.checks, strict=True):
+        result.blocked_by = plan.blocked.get(result.name, "")
+        if result.name != plan.cause:
+            continue
+        rubric.cause = result.name
+        if len(check.levels) < 2:
+            result.hint = check.levels[0]
+            continue
+        # graduated: the concept first, then the API, the code last; one level deeper per changed version of the
+        # learner's files on which this check showed its hint and still fails (the same files show the same hint)
+        more = "; change your files and check again for the next hint" if plan.level < len(check.levels) - 1 else ""
+        result.hint = f"{check.levels[plan.level]} (hint {plan.level + 1} of {len(check.levels)}{more})"
+    rubric.mark_shared_reasons()
+    return plan.shown()
 
 
 def grade(
@@ -106,8 +132,8 @@ def grade(
         total_timeout: Time limit of the whole grader process in [s]; unfinished checks fail.
         verbose: Log pytest's own output at INFO level.
         record: A learner's own check (the exercises track, no ``task_root``): log the attempt in
-            ``exercises/.progress/`` and deepen the hints of checks that failed before. ``progress`` grades with
-            ``record=False``.
+            ``exercises/.progress/`` and deepen the hint of the check that showed it on the previous version of the
+            files (see :mod:`~rrbot_workshop.course.grading.hints`). ``progress`` grades with ``record=False``.
 
     Returns:
         The rubric; the grading ran even if the score is 0.
@@ -174,20 +200,13 @@ def grade(
     rubric.track = chosen if task_root is None else str(task_root)
     learner = record and attempts.recording_enabled(chosen, task_root)
     version = attempts.files_version(tracks.task_dir(task, chosen)) if learner else ""
-    for entry, result in zip(data.get("checks", []), rubric.checks, strict=False):
-        levels = [str(h) for h in entry.get("hints") or [entry.get("hint", "")] if h]
-        if result.passed or len(levels) < 2:
-            continue
-        # graduated: the concept first, then the API, the code last; one level deeper per changed, still failing
-        # version of the learner's files (checking the same files again shows the same hint)
-        level = min(attempts.failed_versions(task, result.name, version), len(levels) - 1) if learner else 0
-        more = "; change your files and check again for the next hint" if level < len(levels) - 1 else ""
-        result.hint = f"{levels[level]} (hint {level + 1} of {len(levels)}{more})"
+    shown = _assign_hints(rubric, data.get("checks", []), attempts.load(task)["attempts"] if learner else [], version)
     if learner:
         failed = rubric.failed()
         reasons = {c.name: c.detail for c in failed}
-        attempts.record(task, rubric.score, rubric.max_score, [c.name for c in failed], version=version,
-                        reasons=reasons)
+        attempt = attempts.record(task, rubric.score, rubric.max_score, [c.name for c in failed], version=version,
+                                  reasons=reasons, hints=shown)
+        live_view.post_attempt(task, attempt)  # on a hub: to the instructor's live view, in the background
     return rubric
 
 

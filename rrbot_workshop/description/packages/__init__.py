@@ -26,14 +26,24 @@ reader cannot follow) resolves relative to its source folder.
 
 **How ``$(find pkg)`` works in xacro.** Xacro pastes the result of ``$(find pkg)`` into text
 (``$(find pkg)/ros2_control/x.xacro``) and opens the file later, so it needs a real folder that looks like the
-installed one. For a source tree with install rules, :func:`share_directory` builds that folder once per
-process: a small tree of symbolic links under a temporary folder (``<tmp>/rrbot_workshop_share_*/<n>/share/
-<pkg>``), one link per install rule, removed when the process exits. Relative includes then behave as in the
-installed package, and a file missing from it is reported by :func:`explain_missing` with every place it was
-looked for. Installed trees, packages without rules and the course's ``descriptions/`` need no view: their own
-folder is the share folder.
+installed one. For a source tree with install rules, :func:`share_directory` writes that folder, the *install view*:
+:func:`~rrbot_workshop.description.packages.installed.install_tree` replays the rules in memory, in CMake's order
+(a later rule overwrites an earlier file; ``RENAME``; a folder or only its contents), and
+:mod:`~rrbot_workshop.description.packages.view` writes the result under this process's own folder
+(``<tmp>/rrbot_workshop_views-<uid>/<pid>-<random>/<n>/share/<pkg>``) as real folders and links to the source
+files. It writes nowhere else: never through a link, never outside that folder. The folder is removed when the
+process exits, and one left by a killed process is removed by the next. Relative includes then behave as in the
+installed package, and a file missing from it is reported by :func:`explain_missing` with every place it was looked
+for. Installed trees, packages without rules and the course's ``descriptions/`` need no view: their own folder is
+the share folder.
+
+**Hostile input.** A ``DESTINATION`` that leaves the install prefix (``../x``) is refused with the file, line and
+rule; ``CMakeLists.txt`` is read in time linear in its size (:mod:`~rrbot_workshop.description.packages.cmake`);
+the crawl and the installed tree follow links with loop detection, never walk out of the folders they were given,
+and stop at a bounded number of folders and files.
 """
 
+from rrbot_workshop.description.packages.cmake import parse_cmake
 from rrbot_workshop.description.packages.crawl import (
     DESCRIPTIONS_ENV,
     IGNORE_MARKERS,
@@ -49,6 +59,7 @@ from rrbot_workshop.description.packages.crawl import (
     use_package_path,
 )
 from rrbot_workshop.description.packages.install_rules import InstallRule, parse_install_rules
+from rrbot_workshop.description.packages.installed import InstallTree, install_tree
 from rrbot_workshop.description.packages.resolve import (
     explain_missing,
     package_of,
@@ -58,6 +69,7 @@ from rrbot_workshop.description.packages.resolve import (
     split_package_reference,
     view_to_source,
 )
+from rrbot_workshop.description.packages.view import remove_stale_views, views_parent
 
 __all__ = [
     "PACKAGE_PATH_ENV",
@@ -65,6 +77,11 @@ __all__ = [
     "IGNORE_MARKERS",
     "InstallRule",
     "parse_install_rules",
+    "parse_cmake",
+    "InstallTree",
+    "install_tree",
+    "remove_stale_views",
+    "views_parent",
     "Package",
     "PackageIndex",
     "descriptions_root",

@@ -8,6 +8,8 @@ from __future__ import annotations
 import contextvars
 import logging
 import os
+import re
+import stat
 import xml.etree.ElementTree as ET
 from collections.abc import Iterable, Iterator
 from contextlib import contextmanager
@@ -15,6 +17,7 @@ from dataclasses import dataclass, field
 from pathlib import Path, PurePosixPath
 
 from rrbot_workshop.description.packages.install_rules import InstallRule, parse_install_rules
+from rrbot_workshop.description.packages.view import remove_stale_views
 from rrbot_workshop.exceptions import DescriptionError
 
 __all__ = [
@@ -63,6 +66,16 @@ class Package:
     manifest: Path | None = None
     rules: tuple[InstallRule, ...] = ()
     rules_complete: bool = True
+    refused: DescriptionError | None = field(default=None, compare=False)
+
+    def check(self) -> None:
+        """Raise the error that makes this package unusable, if any.
+
+        Raises:
+            DescriptionError: If its ``CMakeLists.txt`` has a rule that installs outside the install prefix.
+        """
+        if self.refused is not None:
+            raise DescriptionError(str(self.refused), element="package", attribute=self.name)
 
     @property
     def maps_through_rules(self) -> bool:
@@ -72,28 +85,33 @@ class Package:
     def candidates(self, relative: str | PurePosixPath) -> list[Path]:
         """Every file that ``share/<name>/<relative>`` may be, in the order they are tried.
 
-        For a source tree with install rules, the later rule first (CMake installs in order, so a later rule
-        overwrites an earlier one), then ``package.xml`` (ament always installs it), then, only when some rule
-        could not be read, the same path in the source folder. Otherwise the path in the package's folder.
+        For a source tree with install rules: for ``package.xml`` the manifest first (ament installs it last), then
+        the later rule first (CMake installs in order, so a later rule overwrites an earlier one), then, only when
+        some rule could not be read, the same path in the source folder. Otherwise the path in the package's folder.
+
+        Raises:
+            DescriptionError: If the package's install rules were refused (see :meth:`check`).
         """
+        self.check()
         rel = PurePosixPath(str(relative).replace("\\", "/").lstrip("/"))
         if not self.maps_through_rules:
             return [self.path / rel]
         found: list[Path] = []
+        if rel == PurePosixPath("package.xml") and self.manifest is not None:
+            found.append(self.manifest)  # ament_package() installs it last
         for rule in reversed(self.rules):
             source = rule.source_for(rel)
             if source is not None and source not in found:
                 found.append(source)
-        if rel == PurePosixPath("package.xml") and self.manifest is not None:
-            found.append(self.manifest)
         if not self.rules_complete and self.path / rel not in found:
             found.append(self.path / rel)
         return found
 
     def find(self, relative: str | PurePosixPath) -> Path | None:
-        """The first of :meth:`candidates` that exists, or None."""
+        """The first of :meth:`candidates` that is a regular file or a folder, or None (a FIFO or device is never
+        taken: reading it could block)."""
         for candidate in self.candidates(relative):
-            if candidate.exists():
+            if os.path.isfile(candidate) or os.path.isdir(candidate):  # False, never an error, where it cannot look
                 return candidate
         return None
 
@@ -147,27 +165,44 @@ class PackageIndex:
         )
 
 
+#: Largest ``package.xml`` read [bytes].
+MAX_MANIFEST_BYTES = 1024 * 1024
+#: Most folders looked at below one package path folder; past that the crawl stops with an error.
+MAX_FOLDERS = 20_000
+_PACKAGE_NAME = re.compile(r"[A-Za-z0-9_][A-Za-z0-9_.-]{0,199}")
+
+
 def _read_manifest(manifest: Path) -> str:
     """The ``<name>`` of a ``package.xml``.
 
     Raises:
-        DescriptionError: If the file is not well-formed XML, its root is not ``<package>``, or it has no name.
+        DescriptionError: If the file is not a regular file of at most :data:`MAX_MANIFEST_BYTES`, not well-formed
+            XML, its root is not ``<package>``, or its name is missing or cannot be a folder name.
     """
     try:
-        root = ET.parse(manifest).getroot()
+        info = os.stat(manifest)
+        if not stat.S_ISREG(info.st_mode) or info.st_size > MAX_MANIFEST_BYTES:
+            what = "not a regular file" if not stat.S_ISREG(info.st_mode) else f"larger than {MAX_MANIFEST_BYTES} bytes"
+            raise DescriptionError(f"package.xml is {what}; it is not read", source=str(manifest))
+        with open(manifest, "rb") as handle:
+            data = handle.read(MAX_MANIFEST_BYTES + 1)
+        root = ET.fromstring(data)
     except ET.ParseError as exc:
         line, column = exc.position
         reason = str(exc).split(":")[0]
         raise DescriptionError(f"malformed package.xml at line {line}, column {column + 1}: {reason}",
                                source=str(manifest)) from None
     except OSError as exc:
-        raise DescriptionError(f"cannot read package.xml: {exc.strerror}", source=str(manifest)) from None
+        raise DescriptionError(f"cannot read package.xml: {exc.strerror or exc}", source=str(manifest)) from None
     if root.tag != "package":
         raise DescriptionError(f"package.xml's root element is <{root.tag}>, not <package>", source=str(manifest))
     name = (root.findtext("name") or "").strip()
     if not name:
         raise DescriptionError("package.xml has no <name> (it names the package: <name>my_robot</name>)",
                                source=str(manifest))
+    if not _PACKAGE_NAME.fullmatch(name) or set(name) == {"."}:
+        raise DescriptionError(f"package.xml names the package {name[:80]!r}, which is not a package name (letters, "
+                               "digits and underscores, as my_robot_description)", source=str(manifest))
     return name
 
 
@@ -179,8 +214,70 @@ def _check_entry(entry: Path) -> None:
             "the packages (a workspace's src/, a clone, or an install prefix) instead", element="package_path")
 
 
+def _inside(real: str, root: str) -> bool:
+    return real == root or real.startswith(root.rstrip(os.sep) + os.sep)
+
+
+def _walk(entry: Path) -> list[Path]:
+    """The ``package.xml`` files below ``entry``, crawled as colcon crawls (see :func:`_crawl`)."""
+    root = os.path.realpath(entry)
+    seen: set[str] = set()
+    manifests: list[Path] = []
+    stack: list[tuple[Path, int]] = [(entry, 0)]
+    while stack:
+        folder, depth = stack.pop()
+        real = os.path.realpath(folder)
+        if real in seen:
+            continue
+        seen.add(real)
+        if len(seen) > MAX_FOLDERS:
+            raise DescriptionError(
+                f"package path folder '{entry}' holds more than {MAX_FOLDERS} folders outside packages; give the "
+                "folder that holds the packages (a workspace's src/, a clone) instead", element="package_path")
+        try:
+            with os.scandir(folder) as scan:
+                entries = sorted(scan, key=lambda e: e.name)
+        except OSError:
+            continue
+        names = {e.name for e in entries}
+        if folder != entry and names & set(IGNORE_MARKERS):
+            continue
+        if folder != entry and "package.xml" in names:
+            manifests.append(folder / "package.xml")
+            continue
+        if depth >= MAX_DEPTH:
+            continue
+        for sub in reversed(entries):
+            if sub.name.startswith((".", "__")):
+                continue
+            try:
+                if not sub.is_dir():
+                    continue
+                if sub.is_symlink() and not _inside(os.path.realpath(sub.path), root):
+                    # a link out of the folder: only a package itself is taken (src/my_pkg -> ~/repos/my_pkg)
+                    target = os.path.realpath(sub.path)
+                    if target not in seen and os.path.isfile(os.path.join(target, "package.xml")):
+                        seen.add(target)
+                        if not any(os.path.isfile(os.path.join(target, m)) for m in IGNORE_MARKERS):
+                            manifests.append(Path(sub.path) / "package.xml")
+                    continue
+            except OSError:
+                continue
+            stack.append((Path(sub.path), depth + 1))
+    return manifests
+
+
 def _crawl(entry: Path, index: PackageIndex, descriptions: bool) -> None:
-    """Add the packages below one path entry to ``index`` (first found wins)."""
+    """Add the packages below one path entry to ``index`` (first found wins).
+
+    As colcon: a folder with ``package.xml`` is a package and is not descended into; folders with an ignore marker
+    and hidden folders are skipped; links are followed, each real folder once (a loop ends there). Unlike colcon, the
+    crawl never leaves ``entry``: a link that leads out of it is taken only when it points at a package, which is
+    read and not descended into; and it looks at :data:`MAX_FOLDERS` folders at most.
+
+    Raises:
+        DescriptionError: If ``entry`` holds more than :data:`MAX_FOLDERS` folders outside packages.
+    """
     found: list[Package] = []
     share = entry / "share"
     prefix_packages = sorted(share.glob("*/package.xml")) if share.is_dir() else []
@@ -189,24 +286,7 @@ def _crawl(entry: Path, index: PackageIndex, descriptions: bool) -> None:
     elif prefix_packages:  # an install prefix: its share/* only
         manifests = prefix_packages
     else:
-        manifests = []
-        seen: set[str] = set()
-        for walked, dirs, files in os.walk(entry, followlinks=True):
-            here = Path(walked)
-            real = os.path.realpath(walked)
-            depth = len(here.relative_to(entry).parts)
-            if real in seen or depth > MAX_DEPTH:
-                dirs[:] = []
-                continue
-            seen.add(real)
-            if here != entry and any(m in files for m in IGNORE_MARKERS):
-                dirs[:] = []
-                continue
-            if "package.xml" in files and here != entry:
-                manifests.append(here / "package.xml")
-                dirs[:] = []
-                continue
-            dirs[:] = sorted(d for d in dirs if not d.startswith((".", "__")))
+        manifests = _walk(entry)
     for manifest in manifests:
         try:
             name = _read_manifest(manifest)
@@ -218,10 +298,15 @@ def _crawl(entry: Path, index: PackageIndex, descriptions: bool) -> None:
         installed = folder.parent.name == "share" and folder.name == name
         rules: list[InstallRule] = []
         complete = True
+        refused: DescriptionError | None = None
         if not installed and (folder / "CMakeLists.txt").is_file():
-            rules, complete = parse_install_rules(folder / "CMakeLists.txt", name)
+            try:
+                rules, complete = parse_install_rules(folder / "CMakeLists.txt", name)
+            except DescriptionError as exc:  # an install rule that leaves the prefix: the package is refused on use
+                refused = exc
+                _log.warning("%s", exc)
         found.append(Package(name, folder, "installed" if installed else "source", entry, manifest, tuple(rules),
-                             complete))
+                             complete, refused))
     if descriptions and entry.is_dir():
         taken = {p.path for p in found}
         for sub in sorted(entry.iterdir()):
@@ -304,15 +389,21 @@ def package_index(extra: Iterable[str | os.PathLike[str]] | str | os.PathLike[st
     """The packages on :func:`package_path` ``(extra)``, crawled once per path (``refresh`` crawls again).
 
     Raises:
-        DescriptionError: If a path folder is invalid (see :func:`package_path`).
+        DescriptionError: If a path folder is invalid (see :func:`package_path`), cannot be read, or holds more
+            than :data:`MAX_FOLDERS` folders outside packages.
     """
     entries = package_path(extra)
     if not refresh and entries in _CACHE:
         return _CACHE[entries]
+    remove_stale_views()  # install views of processes that were killed (see view.py)
     index = PackageIndex(entries)
     descriptions = entries[-1]
     for entry in entries:
-        _crawl(entry, index, descriptions=entry == descriptions)
+        try:
+            _crawl(entry, index, descriptions=entry == descriptions)
+        except OSError as exc:  # a folder it may not read (permissions): one line naming it
+            raise DescriptionError(f"package path folder '{entry}' cannot be read: {exc.strerror or exc}"
+                                   f"{f' ({exc.filename})' if exc.filename else ''}", element="package_path") from None
     _CACHE[entries] = index
     return index
 
@@ -344,7 +435,8 @@ def find_package(name: str, extra: Iterable[str | os.PathLike[str]] | str | os.P
     """The package called ``name`` on the package path (crawled again once if it is not known yet).
 
     Raises:
-        DescriptionError: If there is none: the message lists the known packages and the folders searched.
+        DescriptionError: If there is none (the message lists the known packages and the folders searched), or its
+            install rules were refused (a DESTINATION that leaves the install prefix).
     """
     if not name or "/" in name or "\\" in name:
         raise DescriptionError(f"'{name}' is not a package name", element="package", attribute=name)
@@ -352,6 +444,7 @@ def find_package(name: str, extra: Iterable[str | os.PathLike[str]] | str | os.P
     if name not in index.packages:
         index = package_index(extra, refresh=True)  # a package added since the last crawl
     package = index.get(name)
+    package.check()
     _SEEN[name] = package
     return package
 

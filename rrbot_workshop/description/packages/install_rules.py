@@ -1,16 +1,34 @@
 """CMake's ``install(DIRECTORY|FILES ... DESTINATION share/${PROJECT_NAME}...)`` rules, read from a package's
 ``CMakeLists.txt``: what its installed ``share/<pkg>`` folder holds, and which source file each path comes from.
+
+The file is read by :func:`~rrbot_workshop.description.packages.cmake.parse_cmake` in one pass, and variables are
+expanded within a budget proportional to the file's size, so a file of any shape (a hundred thousand commands, deep
+nesting, ``set(A ${A}${A})`` doubling, a command never closed) costs time linear in its size. What the reader cannot
+follow (a variable it does not know, a value past the budget, a file CMake could not read) makes the rules
+*incomplete*: the package then also resolves from its source folder.
 """
 
 from __future__ import annotations
 
+import logging
 import os
+import posixpath
 import re
-from collections.abc import Iterator
+import stat
 from dataclasses import dataclass
 from pathlib import Path, PurePosixPath
 
-__all__ = ["InstallRule", "parse_install_rules"]
+from rrbot_workshop.description.packages.cmake import Argument, Command, parse_cmake
+from rrbot_workshop.exceptions import DescriptionError
+
+__all__ = ["InstallRule", "parse_install_rules", "MAX_CMAKE_BYTES"]
+
+_log = logging.getLogger("rrbot_workshop.description.packages")
+
+#: Largest ``CMakeLists.txt`` read [bytes]; a larger one is not read (its package resolves from its source folder).
+MAX_CMAKE_BYTES = 16 * 1024 * 1024
+#: Longest value a variable may take [characters]; a longer one counts as unknown.
+MAX_VALUE = 64 * 1024
 
 
 @dataclass(frozen=True)
@@ -19,7 +37,8 @@ class InstallRule:
 
     Attributes:
         source: The file or folder in the source tree (absolute).
-        destination: Folder below ``share/<pkg>`` it is installed into (``""``: ``share/<pkg>`` itself).
+        destination: Folder below ``share/<pkg>`` it is installed into (``"."``: ``share/<pkg>`` itself); never
+            leaves it.
         kind: ``"directory"`` (the folder itself, ``install(DIRECTORY a/b ...)``), ``"contents"`` (what is in
             it, ``install(DIRECTORY a/b/ ...)``) or ``"file"`` (``install(FILES ...)``).
         name: Installed name of a file (``RENAME``), else the source's name.
@@ -69,70 +88,160 @@ _KEYWORDS = {
     "MESSAGE_NEVER", "CONFIGURATIONS", "COMPONENT", "EXCLUDE_FROM_ALL", "FILES_MATCHING", "PATTERN", "REGEX",
     "RENAME", "TYPE", "PERMISSIONS", "NAMELINK_COMPONENT",
 }
-_TOKEN = re.compile(r'"((?:[^"\\]|\\.)*)"|(\S+)')
-_VARIABLE = re.compile(r"\$\{([A-Za-z0-9_.+-]+)\}")
+_INNERMOST = re.compile(r"\$\{([A-Za-z0-9_./+-]*)\}")
 
 
-def _strip_cmake_comments(text: str) -> str:
-    """``text`` with CMake comments (``# ...`` and ``#[[ ... ]]``) blanked, keeping line numbers."""
-    out: list[str] = []
-    i, n = 0, len(text)
-    in_quote = False
-    while i < n:
-        c = text[i]
-        if in_quote:
-            out.append(c)
-            if c == "\\" and i + 1 < n:
-                out.append(text[i + 1])
-                i += 2
-                continue
-            if c == '"':
-                in_quote = False
-            i += 1
-            continue
-        if c == '"':
-            in_quote = True
-            out.append(c)
-            i += 1
-            continue
-        if c == "#":
-            bracket = re.match(r"#\[(=*)\[", text[i:])
-            if bracket:
-                end = text.find("]" + bracket.group(1) + "]", i)
-                end = n if end < 0 else end + len(bracket.group(1)) + 2
-            else:
-                end = text.find("\n", i)
-                end = n if end < 0 else end
-            out.append(re.sub(r"[^\n]", " ", text[i:end]))
-            i = end
-            continue
-        out.append(c)
+class _Variables:
+    """CMake variables as far as this reader follows them, expanded within a budget of characters."""
+
+    def __init__(self, root: Path, package: str, budget: int) -> None:
+        self.values = {
+            "PROJECT_NAME": package, "CMAKE_CURRENT_SOURCE_DIR": str(root), "PROJECT_SOURCE_DIR": str(root),
+            "CMAKE_SOURCE_DIR": str(root), "CMAKE_CURRENT_LIST_DIR": str(root),
+        }
+        self.budget = budget
+
+    def expand(self, text: str) -> str | None:
+        """``text`` with every ``${VAR}`` replaced (innermost first); None if one is unknown or the budget is spent."""
+        for _ in range(8):  # ${a_${b}} nests; deeper nesting is not followed
+            if "${" not in text:
+                break
+            unknown = False
+
+            def sub(match: re.Match[str]) -> str:
+                nonlocal unknown
+                value = self.values.get(match.group(1))
+                if value is None:
+                    unknown = True
+                    return ""
+                return value
+
+            text = _INNERMOST.sub(sub, text)
+            self.budget -= len(text)
+            if unknown or self.budget < 0 or len(text) > MAX_VALUE:
+                return None
+        if "${" in text or "$ENV{" in text or "$CACHE{" in text:
+            return None
+        return text
+
+    def items(self, args: list[Argument]) -> list[str] | None:
+        """The list elements of ``args`` after expansion (unquoted ones split at ``;``); None if one is unknown."""
+        out: list[str] = []
+        for arg in args:
+            value = self.expand(arg.text)
+            if value is None:
+                return None
+            out.extend([value] if arg.quoted else [v for v in value.split(";") if v])
+        return out
+
+
+def _read(cmake_file: Path) -> str | None:
+    """The text of ``cmake_file`` if it is a regular file of at most :data:`MAX_CMAKE_BYTES`, else None."""
+    try:
+        info = os.stat(cmake_file)
+        if not stat.S_ISREG(info.st_mode) or info.st_size > MAX_CMAKE_BYTES:
+            _log.warning("%s is not read (%s); its package resolves from its source folder", cmake_file,
+                         "not a regular file" if not stat.S_ISREG(info.st_mode)
+                         else f"larger than {MAX_CMAKE_BYTES} bytes")
+            return None
+        with open(cmake_file, "rb") as handle:
+            data = handle.read(MAX_CMAKE_BYTES + 1)
+    except OSError:
+        return None
+    if len(data) > MAX_CMAKE_BYTES:
+        return None
+    return data.decode("utf-8", errors="replace")
+
+
+def _refuse(cmake_file: Path, text: str, command: Command, why: str) -> DescriptionError:
+    rule = " ".join(text[command.start:command.end].split())
+    if len(rule) > 160:
+        rule = rule[:157] + "..."
+    return DescriptionError(
+        f"line {command.line}: {rule} {why}; colcon would write outside install/. Give a DESTINATION below "
+        "share/${PROJECT_NAME}", source=str(cmake_file), element="install", attribute=f"line {command.line}")
+
+
+def _share_relative(norm: str, package: str) -> PurePosixPath | None:
+    """A normalized install path relative to ``share/<package>``, or None if it lies elsewhere in the prefix."""
+    parts = PurePosixPath(norm).parts
+    if parts[:2] != ("share", package):
+        return None
+    return PurePosixPath(*parts[2:]) if len(parts) > 2 else PurePosixPath(".")
+
+
+def _leaves_prefix(norm: str) -> bool:
+    return norm == ".." or norm.startswith("../")
+
+
+def _install(command: Command, variables: _Variables, root: Path, package: str, cmake_file: Path,
+             text: str) -> tuple[list[InstallRule], bool]:
+    """The share rules of one ``install(DIRECTORY|FILES|PROGRAMS ...)`` and whether it was followed in full.
+
+    Raises:
+        DescriptionError: If its DESTINATION, or a file's DESTINATION/RENAME, leaves the install prefix.
+    """
+    args = list(command.arguments)
+    kind = args[0].text
+    i = 1
+    while i < len(args) and args[i].text not in _KEYWORDS:
         i += 1
-    return "".join(out)
-
-
-def _commands(text: str) -> Iterator[tuple[str, str, int]]:
-    """(command name in lower case, argument text, line) for each command call in CMake ``text``."""
-    for match in re.finditer(r"\b([A-Za-z_][A-Za-z0-9_]*)\s*\(", text):
-        depth, i = 1, match.end()
-        while i < len(text) and depth:
-            if text[i] == "(":
-                depth += 1
-            elif text[i] == ")":
-                depth -= 1
-            elif text[i] == '"':
-                close = text.find('"', i + 1)
-                i = close if close > 0 else len(text)
+    sources = args[1:i]
+    options: dict[str, Argument] = {}
+    while i < len(args):
+        key = args[i].text
+        if key in ("DESTINATION", "RENAME", "TYPE", "COMPONENT") and i + 1 < len(args):
+            options[key] = args[i + 1]
+            i += 2
+        else:  # flags, permissions, PATTERN/REGEX filters (the folder still maps: an over-approximation)
             i += 1
-        yield match.group(1).lower(), text[match.end():i - 1], text.count("\n", 0, match.start()) + 1
-
-
-def _tokens(args: str) -> list[str]:
-    return [m.group(1) if m.group(1) is not None else m.group(2) for m in _TOKEN.finditer(args)]
+    if "DESTINATION" not in options:
+        return [], True  # TYPE ...: another folder than share/<pkg>
+    dest = variables.expand(options["DESTINATION"].text)
+    if dest is None:
+        return [], False
+    norm = posixpath.normpath(dest.replace("\\", "/")) if dest else "."
+    if norm.startswith("/"):
+        return [], True  # an absolute DESTINATION: outside share/<pkg>, nothing of $(find pkg)
+    if _leaves_prefix(norm):
+        raise _refuse(cmake_file, text, command, f"installs into {dest!r}, which leaves the install prefix")
+    below = _share_relative(norm, package)
+    if below is None:
+        return [], True  # include/, lib/, another package's share folder
+    items = variables.items(sources)
+    if items is None:
+        return [], False
+    rename: str | None = None
+    if "RENAME" in options and kind != "DIRECTORY":
+        rename = variables.expand(options["RENAME"].text)
+        if rename is None:
+            return [], False
+        renamed = posixpath.normpath(f"{norm}/{rename}")
+        if rename.startswith("/") or _leaves_prefix(renamed):
+            raise _refuse(cmake_file, text, command, f"renames a file to {rename!r}, which leaves the install prefix")
+        if _share_relative(renamed, package) in (None, PurePosixPath(".")):
+            return [], True
+    rules: list[InstallRule] = []
+    complete = True
+    for item in items:
+        if "$<" in item:  # a generator expression: known only when CMake generates
+            complete = False
+            continue
+        src = Path(os.path.normpath(Path(item) if Path(item).is_absolute() else root / item))
+        if kind == "DIRECTORY":
+            contents = item.endswith(("/", "\\")) or PurePosixPath(item).name in ("", ".")
+            rules.append(InstallRule(src, below, "contents" if contents else "directory", line=command.line))
+        elif rename is not None and len(items) == 1:
+            where = _share_relative(posixpath.normpath(f"{norm}/{rename}"), package)
+            assert where is not None
+            rules.append(InstallRule(src, where.parent, "file", name=where.name, line=command.line))
+        else:
+            rules.append(InstallRule(src, below, "file", line=command.line))
+    return rules, complete
 
 
 def parse_install_rules(cmake_file: Path, package: str) -> tuple[list[InstallRule], bool]:
-    """The rules of ``cmake_file`` that install into ``share/<package>``.
+    """The rules of ``cmake_file`` that install into ``share/<package>``, in the order CMake runs them.
 
     Args:
         cmake_file: A package's ``CMakeLists.txt``.
@@ -140,90 +249,47 @@ def parse_install_rules(cmake_file: Path, package: str) -> tuple[list[InstallRul
 
     Returns:
         ``(rules, complete)``: ``complete`` is False when an ``install()`` could not be followed (a variable this
-        reader does not know, a destination it cannot read); the package then also resolves from its source
-        folder.
+        reader does not know, a destination it cannot read) or the file could not be read in full (not a regular
+        file, larger than :data:`MAX_CMAKE_BYTES`, a command never closed); the package then also resolves from its
+        source folder.
+
+    Raises:
+        DescriptionError: If a rule's DESTINATION (or a file's RENAME) leaves the install prefix
+            (``DESTINATION ../x``, ``share/${PROJECT_NAME}/../../..``): the message names the file, the line and the
+            rule.
     """
-    try:
-        text = _strip_cmake_comments(cmake_file.read_text(encoding="utf-8", errors="replace"))
-    except OSError:
+    text = _read(cmake_file)
+    if text is None:
         return [], False
     root = cmake_file.parent
-    variables = {
-        "PROJECT_NAME": package, "CMAKE_CURRENT_SOURCE_DIR": str(root), "PROJECT_SOURCE_DIR": str(root),
-        "CMAKE_SOURCE_DIR": str(root), "CMAKE_CURRENT_LIST_DIR": str(root),
-    }
+    parsed = parse_cmake(text, keep=("project", "set", "unset", "install"))
+    variables = _Variables(root, package, budget=4 * len(text) + (1 << 20))
     rules: list[InstallRule] = []
-    complete = True
-
-    def expand(token: str) -> str | None:
-        unknown = False
-
-        def sub(m: re.Match[str]) -> str:
-            nonlocal unknown
-            if m.group(1) in variables:
-                return variables[m.group(1)]
-            unknown = True
-            return m.group(0)
-
-        value = _VARIABLE.sub(sub, token)
-        return None if unknown else value
-
-    for name, args, line in _commands(text):
-        tokens = _tokens(args)
-        if name == "project" and tokens:
-            variables["PROJECT_NAME"] = variables["CMAKE_PROJECT_NAME"] = expand(tokens[0]) or package
-        elif name == "set" and tokens and not any(t in ("CACHE", "PARENT_SCOPE") for t in tokens[1:]):
-            values = [expand(t) for t in tokens[1:]]
-            if all(v is not None for v in values):
-                variables[tokens[0]] = ";".join(v for v in values if v is not None)
-        elif name == "install" and tokens and tokens[0] in ("DIRECTORY", "FILES", "PROGRAMS"):
-            kind = tokens[0]
-            sources: list[str] = []
-            i = 1
-            while i < len(tokens) and tokens[i] not in _KEYWORDS:
-                sources.append(tokens[i])
-                i += 1
-            options: dict[str, str] = {}
-            while i < len(tokens):
-                key = tokens[i]
-                if key in ("DESTINATION", "RENAME", "TYPE", "COMPONENT") and i + 1 < len(tokens):
-                    options[key] = tokens[i + 1]
-                    i += 2
-                else:  # flags, permissions, PATTERN/REGEX filters (the folder still maps: an over-approximation)
-                    i += 1
-            dest_text = options.get("DESTINATION")
-            if dest_text is None:
+    complete = not parsed.problem
+    if parsed.problem:
+        _log.warning("%s:%d: %s (CMake would stop here); install rules after it are not read", cmake_file,
+                     parsed.problem_line, parsed.problem)
+    for command in parsed.commands:
+        args = command.arguments
+        if command.name == "project" and args:
+            name = variables.expand(args[0].text)
+            variables.values["PROJECT_NAME"] = variables.values["CMAKE_PROJECT_NAME"] = name or package
+        elif command.name == "set" and args:
+            if any(a.text in ("CACHE", "PARENT_SCOPE") for a in args[1:]):
                 continue
-            dest = expand(dest_text)
-            if dest is None:
-                complete = False
-                continue
-            dest_path = PurePosixPath(dest.replace("\\", "/"))
-            share = PurePosixPath("share") / package
-            if dest_path.is_absolute() or dest_path.parts[:1] != ("share",):
-                continue  # include/, lib/ ...: not part of the share folder
-            try:
-                below = dest_path.relative_to(share)
-            except ValueError:
-                continue  # another package's share folder
-            for raw in sources:
-                expanded = expand(raw)
-                if expanded is None:
-                    complete = False
-                    continue
-                for item in expanded.split(";"):
-                    if not item:
-                        continue
-                    if "$<" in item:
-                        complete = False
-                        continue
-                    src = Path(item) if Path(item).is_absolute() else root / item
-                    if kind == "DIRECTORY":
-                        contents = item.endswith(("/", "\\")) or PurePosixPath(item).name in ("", ".")
-                        rules.append(InstallRule(Path(os.path.normpath(src)), below,
-                                                 "contents" if contents else "directory", line=line))
-                    else:
-                        rename = options.get("RENAME") if len(sources) == 1 else None
-                        rules.append(InstallRule(Path(os.path.normpath(src)), below, "file",
-                                                 name=expand(rename) or "" if rename else "", line=line))
+            values = variables.items(list(args[1:]))
+            if values is None or len(args) == 1:
+                variables.values.pop(args[0].text, None)  # unknown from now on (set(X) unsets X)
+            else:
+                joined = ";".join(values)
+                if len(joined) > MAX_VALUE:
+                    variables.values.pop(args[0].text, None)
+                else:
+                    variables.values[args[0].text] = joined
+        elif command.name == "unset" and args:
+            variables.values.pop(args[0].text, None)
+        elif command.name == "install" and args and args[0].text in ("DIRECTORY", "FILES", "PROGRAMS"):
+            found, followed = _install(command, variables, root, package, cmake_file, text)
+            rules.extend(found)
+            complete = complete and followed
     return rules, complete

@@ -5,15 +5,16 @@ See :mod:`rrbot_workshop.description.packages` for how a source tree resolves as
 
 from __future__ import annotations
 
-import atexit
 import os
 import re
-import shutil
-import tempfile
+import threading
 from collections.abc import Iterable, Sequence
+from dataclasses import dataclass
 from pathlib import Path
 
 from rrbot_workshop.description.packages.crawl import Package, find_package, known_package, package_index
+from rrbot_workshop.description.packages.installed import InstallTree, install_tree
+from rrbot_workshop.description.packages.view import build_view
 from rrbot_workshop.exceptions import DescriptionError
 
 __all__ = [
@@ -29,6 +30,12 @@ __all__ = [
 
 def _not_found(package: Package, relative: str, candidates: Sequence[Path]) -> DescriptionError:
     looked = "; ".join(str(c) for c in candidates) or "nowhere"
+    special = [c for c in candidates if os.path.lexists(c) and not (os.path.isfile(c) or os.path.isdir(c))]
+    if special:  # a FIFO, a device, a socket or a broken link: reading it could block, or there is nothing
+        return DescriptionError(
+            f"file '{relative}' of package '{package.name}' is {special[0]}, which is not a regular file (a FIFO, "
+            "device, socket or broken link); give a regular file", element="package",
+            attribute=f"{package.name}/{relative}")
     extra = ""
     if package.maps_through_rules:
         plain = package.path / relative
@@ -138,62 +145,15 @@ def package_of(path: str | os.PathLike[str],
 
 
 # ============================================================================ the install view for xacro
-_VIEW_ROOT: Path | None = None
-_VIEWS: dict[Path, Path] = {}
+@dataclass(frozen=True)
+class _View:
+    path: Path
+    tree: InstallTree
 
 
-def _view_root() -> Path:
-    global _VIEW_ROOT
-    if _VIEW_ROOT is None or not _VIEW_ROOT.is_dir():
-        _VIEW_ROOT = Path(tempfile.mkdtemp(prefix="rrbot_workshop_share_"))
-        atexit.register(shutil.rmtree, _VIEW_ROOT, True)
-    return _VIEW_ROOT
-
-
-def _link(source: Path, target: Path) -> None:
-    """Make ``target`` show ``source``, merging folders that two rules install into the same place."""
-    if not source.exists():
-        return
-    if target.is_symlink() or target.exists():
-        if source.is_dir() and target.is_dir():
-            if target.is_symlink():  # two rules fill one folder: turn the link into a real folder of links
-                previous = Path(os.readlink(target))
-                target.unlink()
-                target.mkdir()
-                for child in previous.iterdir():
-                    _link(child, target / child.name)
-            for child in source.iterdir():
-                _link(child, target / child.name)
-            return
-        if target.is_dir() and not target.is_symlink():
-            shutil.rmtree(target)
-        else:
-            target.unlink()
-    target.parent.mkdir(parents=True, exist_ok=True)
-    try:
-        target.symlink_to(source, target_is_directory=source.is_dir())
-    except OSError:  # no symbolic links (some Windows set-ups): copy instead
-        if source.is_dir():
-            shutil.copytree(source, target)
-        else:
-            shutil.copy2(source, target)
-
-
-def _build_view(package: Package) -> Path:
-    share = _view_root() / str(len(_VIEWS)) / "share" / package.name
-    share.mkdir(parents=True)
-    for rule in package.rules:  # in CMake's order: a later rule overwrites an earlier one
-        target = share / rule.installed_as
-        if rule.kind == "contents":
-            if rule.source.is_dir():
-                target.mkdir(parents=True, exist_ok=True)
-                for child in sorted(rule.source.iterdir()):
-                    _link(child, target / child.name)
-        else:
-            _link(rule.source, target)
-    if package.manifest is not None and not (share / "package.xml").exists():
-        _link(package.manifest, share / "package.xml")
-    return share
+_LOCK = threading.RLock()
+_VIEWS: dict[Path, _View] = {}
+_VIEW_PACKAGES: dict[Path, Package] = {}
 
 
 def share_directory(package: str | Package,
@@ -202,30 +162,36 @@ def share_directory(package: str | Package,
     """A folder that looks like the package's installed ``share/<package>``: what ``$(find package)`` gives.
 
     Installed trees, packages without install rules and the course's descriptions give their own folder. A source
-    tree with install rules gives a view built of symbolic links (see the module docstring), built once per
-    process (``rebuild``: again, e.g. after files were added at the top of a folder installed by its contents).
+    tree with install rules gives its install view (see :mod:`~rrbot_workshop.description.packages.view`): real
+    folders of its own and links to the source files. The installed tree is worked out again on every call, and a
+    new view is written when it differs from the last one (a file added, a rule changed) or ``rebuild`` is set;
+    nothing outside the view's own folder is ever written.
 
     Raises:
-        DescriptionError: If the package is unknown.
+        DescriptionError: If the package is unknown, its install rules were refused (a DESTINATION that leaves the
+            install prefix), two rules install a file and a folder at one path, or the rules install more files
+            than :data:`~rrbot_workshop.description.packages.installed.MAX_ENTRIES`.
     """
     pkg = package if isinstance(package, Package) else find_package(package, extra)
+    pkg.check()
     if not pkg.maps_through_rules:
         return pkg.path
-    view = _VIEWS.get(pkg.path)
-    if view is None or rebuild or not view.is_dir():
-        view = _VIEWS[pkg.path] = _build_view(pkg)
+    tree = install_tree(pkg)
+    with _LOCK:
+        known = _VIEWS.get(pkg.path)
+        if known is not None and not rebuild and known.tree == tree and os.path.isdir(known.path):
+            return known.path
+        view = build_view(tree)
+        _VIEWS[pkg.path] = _View(view, tree)
         _VIEW_PACKAGES[view] = pkg
     return view
-
-
-_VIEW_PACKAGES: dict[Path, Package] = {}
 
 
 def explain_missing(path: str | os.PathLike[str]) -> DescriptionError | None:
     """For a missing file below a view made by :func:`share_directory`: the error that lists every place it was
     looked for in the source tree; None for any other path."""
     target = Path(os.path.abspath(path))
-    for view, pkg in _VIEW_PACKAGES.items():
+    for view, pkg in list(_VIEW_PACKAGES.items()):
         try:
             relative = target.relative_to(view)
         except ValueError:
@@ -237,6 +203,6 @@ def explain_missing(path: str | os.PathLike[str]) -> DescriptionError | None:
 
 def view_to_source(text: str) -> str:
     """``text`` with every view folder replaced by ``$(find <pkg>)`` (for messages that quote view paths)."""
-    for view, pkg in _VIEW_PACKAGES.items():
+    for view, pkg in list(_VIEW_PACKAGES.items()):
         text = text.replace(str(view), f"$(find {pkg.name})")
     return text

@@ -17,6 +17,7 @@ its controllers (:class:`Controller`), and the sections no node of the file take
 from __future__ import annotations
 
 import copy
+import functools
 import re
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -67,10 +68,35 @@ def _absolute(key: str) -> str:
     return key if key.startswith("/") else "/" + key
 
 
+@functools.lru_cache(maxsize=4096)
+def _key_pattern(key: str) -> re.Pattern[str]:
+    return re.compile(re.escape(_absolute(key)).replace(r"/\*\*", r"(?:/\w+)*").replace(r"/\*", r"(?:/\w+)"))
+
+
 def key_matches(key: str, fqn: str) -> bool:
     """Whether the section key ``key`` applies to the node ``fqn`` (``/ns/name``), as rclcpp matches them."""
-    pattern = re.escape(_absolute(key)).replace(r"/\*\*", r"(?:/\w+)*").replace(r"/\*", r"(?:/\w+)")
-    return re.fullmatch(pattern, fqn) is not None
+    return _key_pattern(key).fullmatch(fqn) is not None
+
+
+class _Applying:
+    """The sections that apply to a node, in file order: exact keys looked up, only wildcard keys matched.
+
+    A file with thousands of controllers would otherwise match every key against every node.
+    """
+
+    def __init__(self, sections: list[Section]) -> None:
+        self._sections = sections
+        self._exact: dict[str, list[int]] = {}
+        self._wild: list[int] = []
+        for index, section in enumerate(sections):
+            if "*" in section.key:
+                self._wild.append(index)
+            else:
+                self._exact.setdefault(_absolute(section.key), []).append(index)
+
+    def __call__(self, fqn: str) -> list[Section]:
+        found = self._exact.get(fqn, []) + [i for i in self._wild if key_matches(self._sections[i].key, fqn)]
+        return [self._sections[i] for i in sorted(found)]
 
 
 @dataclass
@@ -249,10 +275,11 @@ def read_layout(sections: list[Section]) -> Layout:
                                     and not _is_manager_name(s.name)))
     managers: list[Manager] = []
     claimed: set[int] = set()
+    applying_to = _Applying(sections)
     for ns in namespaces:
         for manager_name in manager_names:
             fqn = f"{ns.rstrip('/')}/{manager_name}"
-            manager = Manager(fqn, [s for s in sections if key_matches(s.key, fqn)])
+            manager = Manager(fqn, applying_to(fqn))
             named = any(not s.wildcard_name for s in manager.sections)
             for section in manager.sections:
                 for pname, pval in section.params.items():
@@ -264,7 +291,7 @@ def read_layout(sections: list[Section]) -> Layout:
                         entry.type_sections.append((section, (str(pname), "type")))
             for name in node_names:
                 cfqn = f"{ns.rstrip('/')}/{name}"
-                applying = [s for s in sections if key_matches(s.key, cfqn)]
+                applying = applying_to(cfqn)
                 typed = [s for s in applying if "type" in s.params] if manager_name == primary else []
                 if not typed and name not in manager.controllers:
                     continue
@@ -273,7 +300,7 @@ def read_layout(sections: list[Section]) -> Layout:
                     entry.type = section.params["type"]
                     entry.type_sections.append((section, ("type",)))
             for entry in manager.controllers.values():
-                entry.sections = [s for s in sections if key_matches(s.key, entry.fqn)]
+                entry.sections = applying_to(entry.fqn)
                 claimed.update(id(s) for s in entry.specific_sections())
             if named or manager.controllers:
                 managers.append(manager)

@@ -1,0 +1,122 @@
+"""The per-process cache of xacro expansions: the same file with the same arguments is expanded once, and again as
+soon as anything it read changed (an included file, a YAML file, a wildcard's matches, a package's folder, an
+environment variable)."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from pathlib import Path
+
+import pytest
+import xacro
+
+from rrbot_workshop.description import process_xacro, xacro_cache
+from rrbot_workshop.description.packages import DESCRIPTIONS_ENV, use_package_path
+from rrbot_workshop.exceptions import DescriptionError
+
+_HEAD = '<?xml version="1.0"?>\n<robot name="t" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+
+
+@pytest.fixture
+def alpha(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Iterator[Path]:
+    """The ``urdf`` folder of package ``alpha`` in a descriptions root of its own; the cache starts empty."""
+    (tmp_path / "alpha" / "urdf").mkdir(parents=True)
+    monkeypatch.setenv(DESCRIPTIONS_ENV, str(tmp_path))
+    xacro_cache.clear()
+    yield tmp_path / "alpha" / "urdf"
+    xacro_cache.clear()
+
+
+def _robot(body: str) -> str:
+    return _HEAD + body + "\n</robot>\n"
+
+
+def _counts() -> tuple[int, int]:
+    return xacro_cache.EXPANSIONS.hits, xacro_cache.EXPANSIONS.misses
+
+
+def test_the_same_file_and_arguments_are_expanded_once(alpha: Path) -> None:
+    path = alpha / "r.xacro"
+    path.write_text(_robot('<xacro:arg name="p" default=""/><link name="$(arg p)l"/>'))
+    first = process_xacro(path, p="a_")
+    assert process_xacro(path, p="a_") == first and _counts() == (1, 1)
+    assert '<link name="b_l"/>' in process_xacro(path, p="b_"), "other arguments: another expansion"
+    assert _counts() == (1, 2)
+
+
+def test_an_edited_include_is_expanded_again(alpha: Path) -> None:
+    (alpha / "part.xacro").write_text(_robot('<link name="one"/>'))
+    path = alpha / "r.xacro"
+    path.write_text(_robot('<xacro:include filename="part.xacro"/>'))
+    assert '<link name="one"/>' in process_xacro(path)
+    (alpha / "part.xacro").write_text(_robot('<link name="two"/>'))
+    urdf = process_xacro(path)
+    assert '<link name="two"/>' in urdf and '<link name="one"/>' not in urdf
+
+
+def test_an_edited_yaml_file_is_read_again(alpha: Path) -> None:
+    (alpha / "values.yaml").write_text("length: 1.5\n")
+    path = alpha / "r.xacro"
+    path.write_text(_robot('<xacro:property name="v" value="${xacro.load_yaml(\'values.yaml\')}"/>'
+                           '<link name="l${v[\'length\']}"/>'))
+    assert '<link name="l1.5"/>' in process_xacro(path)
+    (alpha / "values.yaml").write_text("length: 2.5\n")
+    assert '<link name="l2.5"/>' in process_xacro(path)
+
+
+def test_a_file_added_to_a_wildcard_include_is_included(alpha: Path) -> None:
+    (alpha / "parts").mkdir()
+    (alpha / "parts" / "a.xacro").write_text(_robot('<link name="a"/>'))
+    path = alpha / "r.xacro"
+    path.write_text(_robot('<xacro:include filename="parts/*.xacro"/>'))
+    assert '<link name="b"/>' not in process_xacro(path)
+    (alpha / "parts" / "b.xacro").write_text(_robot('<link name="b"/>'))
+    assert '<link name="b"/>' in process_xacro(path)
+
+
+def test_a_changed_environment_variable_is_read_again(alpha: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    path = alpha / "r.xacro"
+    path.write_text(_robot('<link name="$(optenv RRBOT_TEST_LINK none)"/>'))
+    assert '<link name="none"/>' in process_xacro(path)
+    monkeypatch.setenv("RRBOT_TEST_LINK", "set")
+    assert '<link name="set"/>' in process_xacro(path)
+
+
+def test_another_package_path_finds_another_package(alpha: Path, tmp_path: Path) -> None:
+    """``$(find beta)`` is looked up again: a package path given later may hold another beta."""
+    for where, name in ((tmp_path, "root"), (tmp_path / "elsewhere", "elsewhere")):
+        (where / "beta" / "urdf").mkdir(parents=True)
+        (where / "beta" / "package.xml").write_text("<package format='3'><name>beta</name></package>")
+        (where / "beta" / "urdf" / "m.xacro").write_text(_robot(f'<link name="{name}"/>'))
+    path = alpha / "r.xacro"
+    path.write_text(_robot('<xacro:include filename="$(find beta)/urdf/m.xacro"/>'))
+    assert '<link name="root"/>' in process_xacro(path)
+    with use_package_path([tmp_path / "elsewhere"]):
+        assert '<link name="elsewhere"/>' in process_xacro(path)
+    assert '<link name="root"/>' in process_xacro(path)
+
+
+def test_a_failed_expansion_is_not_kept(alpha: Path) -> None:
+    path = alpha / "r.xacro"
+    path.write_text(_robot('<link name="${nope}"/>'))
+    for _ in range(2):
+        with pytest.raises(DescriptionError, match="nope"):
+            process_xacro(path)
+    assert len(xacro_cache.EXPANSIONS) == 0
+
+
+def test_xacros_own_lookups_are_restored_after_an_expansion(alpha: Path) -> None:
+    """The recording hooks (open, glob, $(env), $(optenv)) live only while an expansion runs."""
+    before = (vars(xacro).get("open"), xacro.glob, xacro.substitution_args._eval_env)
+    path = alpha / "r.xacro"
+    path.write_text(_robot('<link name="a"/>'))
+    process_xacro(path)
+    assert (vars(xacro).get("open"), xacro.glob, xacro.substitution_args._eval_env) == before
+
+
+def test_the_cache_keeps_at_most_its_size(alpha: Path) -> None:
+    cache = xacro_cache.ExpansionCache(size=2)
+    recorder = xacro_cache.Recorder()
+    for name in ("a", "b", "c"):
+        cache.put(alpha / name, {}, name, recorder)
+    assert len(cache) == 2 and cache.get(alpha / "a", {}, str) is None and cache.get(alpha / "c", {}, str) == "c"
