@@ -20,7 +20,6 @@ literally, never as patterns.
 
 from __future__ import annotations
 
-import csv
 import glob
 import hashlib
 import json
@@ -33,7 +32,6 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from rrbot_workshop.classroom.class_report_page import local_time, render_html
 from rrbot_workshop.classroom.learner_logs import LearnerLogs, read_logs, shown
 from rrbot_workshop.classroom.task_status import (
     DEFAULT_STUCK_AFTER_S,
@@ -44,11 +42,12 @@ from rrbot_workshop.classroom.task_status import (
     TaskState,
     classify,
     last_activity,
+    local_time,
 )
 from rrbot_workshop.exceptions import CourseError
 
 __all__ = ["Workspace", "LearnerReport", "RoomReport", "find_workspaces", "hub_users", "hub_workspaces", "tljh_home",
-           "untouched_versions", "build_report", "write_report", "csv_cell", "local_time", "WORKSPACE_NAME",
+           "untouched_versions", "build_report", "WORKSPACE_NAME",
            "TLJH_HOMES", "MAX_HUB_NAME_CHARS", "MAX_HUB_USERS"]
 
 #: The folder ``rrbot-workshop init`` makes in a learner's home.
@@ -64,9 +63,6 @@ _PAGINATION = "application/jupyterhub-pagination+json"
 _PAGE = 200  # JupyterHub's largest page by default (api_page_max_limit)
 _HUB_MAX_BYTES = 64 * 1024 * 1024
 _TASK_DIR = re.compile(r"^task(\d{2})_")
-#: First characters that make a spreadsheet read a cell as a formula (OWASP's CSV injection list, with NUL and the
-#: full-width forms some spreadsheets also take).
-_FORMULA_START = ("=", "+", "-", "@", "\t", "\r", "\n", "\0", "\uff1d", "\uff0b", "\uff0d", "\uff20")
 
 
 @dataclass(frozen=True)
@@ -428,49 +424,3 @@ def _leave_out_shared_files(read: list[tuple[Workspace, LearnerLogs]]) -> None:
             logs.attempts.pop(task, None)
             logs.notes.append(f"{shown(workspace.name, 60)}: task {task}'s log task{task:02d}.json is the same file as "
                               f"a log of {others} (a hard link); left out for each of them")
-
-
-def csv_cell(value: object) -> str:
-    """A CSV cell a spreadsheet shows as text: a text starting with ``=``, ``+``, ``-``, ``@``, a tab, a carriage
-    return (OWASP's list, with a line feed, NUL and their full-width forms) gets a leading ``'``; None is empty."""
-    text = "" if value is None else str(value)
-    return f"'{text}" if text.startswith(_FORMULA_START) else text
-
-
-_CSV_COLUMNS = ["learner", "task", "status", "points", "max_points", "attempts", "time_to_pass_s", "first_try",
-                "stuck_on", "failing_checks", "failing_since", "last_check", "learner_last_activity"]
-
-
-def _csv_rows(report: RoomReport) -> list[list[object]]:
-    rows: list[list[object]] = []
-    for learner in report.learners:
-        for task in report.tasks():
-            s = learner.state(task)
-            since = min(s.failing_since.values(), default=None)
-            rows.append([learner.name, task, s.status, s.points, s.max_points, s.attempts, s.time_to_pass_s,
-                         s.first_try, " ".join(s.stuck_on), " ".join(sorted(s.failing)), local_time(since),
-                         local_time(s.last_check), local_time(learner.last_activity)])
-    return rows
-
-
-def write_report(report: RoomReport, out: Path) -> list[Path]:
-    """Write ``report.json``, ``report.csv`` (one row per learner and task, every cell quoted and formula-safe, see
-    :func:`csv_cell`) and ``report.html`` into ``out``.
-
-    Raises:
-        CourseError: If ``out`` is a file or cannot be written.
-    """
-    if os.path.lexists(out) and not out.is_dir():
-        raise CourseError("--out", str(out), "is a file; give a folder for report.json, report.csv and report.html")
-    paths = [out / "report.json", out / "report.csv", out / "report.html"]
-    try:
-        out.mkdir(parents=True, exist_ok=True)
-        paths[0].write_text(json.dumps(report.to_dict(), indent=1) + "\n", encoding="utf-8")
-        with paths[1].open("w", newline="", encoding="utf-8") as handle:
-            writer = csv.writer(handle, quoting=csv.QUOTE_ALL)
-            writer.writerow(_CSV_COLUMNS)
-            writer.writerows([csv_cell(v) for v in row] for row in _csv_rows(report))
-        paths[2].write_text(render_html(report), encoding="utf-8")
-    except OSError as exc:
-        raise CourseError("--out", str(out), f"cannot be written ({exc.strerror or exc})") from None
-    return paths

@@ -1,23 +1,25 @@
-"""The class report as a page: the room's tasks at a glance, each learner × task, where the room is stuck, progress.
+"""The class report's files: the page (the room's tasks at a glance, each learner × task, where the room is stuck,
+progress), the spreadsheet and the JSON.
 
-:func:`render_html` turns a :class:`~rrbot_workshop.classroom.class_report.RoomReport` into one self-contained HTML
+:func:`write_report` writes all three; :func:`render_html` turns a :class:`~rrbot_workshop.classroom.class_report.RoomReport` into one self-contained HTML
 file (the plot is an inline SVG). Every text that comes from a learner (names, check names, reasons) is HTML-escaped;
 the page runs no script.
 """
 
 from __future__ import annotations
 
+import csv
 import html
+import json
 import math
-from datetime import datetime
-from typing import TYPE_CHECKING
+import os
+from pathlib import Path
 
-from rrbot_workshop.classroom.task_status import NOT_STARTED, PASSED, STATUSES, STUCK, WORKING, TaskState
+from rrbot_workshop.classroom.class_report import RoomReport
+from rrbot_workshop.classroom.task_status import NOT_STARTED, PASSED, STATUSES, STUCK, WORKING, TaskState, local_time
+from rrbot_workshop.exceptions import CourseError
 
-if TYPE_CHECKING:
-    from rrbot_workshop.classroom.class_report import RoomReport
-
-__all__ = ["render_html", "progress_svg", "duration", "local_time"]
+__all__ = ["render_html", "progress_svg", "duration", "write_report", "csv_cell"]
 
 _CSS = """body{font-family:sans-serif;margin:1.5em;color:#222} table{border-collapse:collapse;margin-bottom:1.5em}
 td,th{border:1px solid #ccc;padding:.3em .6em;text-align:center;vertical-align:top} th.who{text-align:left}
@@ -25,13 +27,6 @@ td,th{border:1px solid #ccc;padding:.3em .6em;text-align:center;vertical-align:t
 .not-started{color:#777;background:#f6f6f6} small{font-weight:normal} .meta{color:#555}
 td.reason{text-align:left;max-width:40em} td.when{white-space:nowrap}"""
 _CLASS = {NOT_STARTED: "not-started", WORKING: "working", STUCK: "stuck", PASSED: "passed"}
-
-
-def local_time(when: float | None) -> str:
-    """``when`` [s since the epoch] as local time, ``2026-05-04 10:32:05 +0200``; ``""`` for None."""
-    if when is None:
-        return ""
-    return datetime.fromtimestamp(when).astimezone().strftime("%Y-%m-%d %H:%M:%S %z")
 
 
 def duration(seconds: float) -> str:
@@ -146,3 +141,54 @@ every self-check of their own work for {duration(report.stuck_after)} or more (<
 <h2>Progress over the workshop</h2>{progress_svg(report)}
 <h2>Notes</h2><ul>{notes}</ul></body></html>
 """
+
+
+#: First characters that make a spreadsheet read a cell as a formula (OWASP's CSV injection list, with NUL and the
+#: full-width forms some spreadsheets also take).
+_FORMULA_START = ("=", "+", "-", "@", "\t", "\r", "\n", "\0", "\uff1d", "\uff0b", "\uff0d", "\uff20")
+
+
+def csv_cell(value: object) -> str:
+    """A CSV cell a spreadsheet shows as text: a text starting with ``=``, ``+``, ``-``, ``@``, a tab, a carriage
+    return (OWASP's list, with a line feed, NUL and their full-width forms) gets a leading ``'``; None is empty."""
+    text = "" if value is None else str(value)
+    return f"'{text}" if text.startswith(_FORMULA_START) else text
+
+
+_CSV_COLUMNS = ["learner", "task", "status", "points", "max_points", "attempts", "time_to_pass_s", "first_try",
+                "stuck_on", "failing_checks", "failing_since", "last_check", "learner_last_activity"]
+
+
+def _csv_rows(report: RoomReport) -> list[list[object]]:
+    rows: list[list[object]] = []
+    for learner in report.learners:
+        for task in report.tasks():
+            s = learner.state(task)
+            since = min(s.failing_since.values(), default=None)
+            rows.append([learner.name, task, s.status, s.points, s.max_points, s.attempts, s.time_to_pass_s,
+                         s.first_try, " ".join(s.stuck_on), " ".join(sorted(s.failing)), local_time(since),
+                         local_time(s.last_check), local_time(learner.last_activity)])
+    return rows
+
+
+def write_report(report: RoomReport, out: Path) -> list[Path]:
+    """Write ``report.json``, ``report.csv`` (one row per learner and task, every cell quoted and formula-safe, see
+    :func:`csv_cell`) and ``report.html`` into ``out``.
+
+    Raises:
+        CourseError: If ``out`` is a file or cannot be written.
+    """
+    if os.path.lexists(out) and not out.is_dir():
+        raise CourseError("--out", str(out), "is a file; give a folder for report.json, report.csv and report.html")
+    paths = [out / "report.json", out / "report.csv", out / "report.html"]
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+        paths[0].write_text(json.dumps(report.to_dict(), indent=1) + "\n", encoding="utf-8")
+        with paths[1].open("w", newline="", encoding="utf-8") as handle:
+            writer = csv.writer(handle, quoting=csv.QUOTE_ALL)
+            writer.writerow(_CSV_COLUMNS)
+            writer.writerows([csv_cell(v) for v in row] for row in _csv_rows(report))
+        paths[2].write_text(render_html(report), encoding="utf-8")
+    except OSError as exc:
+        raise CourseError("--out", str(out), f"cannot be written ({exc.strerror or exc})") from None
+    return paths

@@ -156,7 +156,8 @@ def _cmd_singleuser(args: argparse.Namespace) -> int:
 
 
 def _cmd_class_report(args: argparse.Namespace) -> int:
-    from rrbot_workshop.classroom.class_report import build_report, hub_users, hub_workspaces, write_report
+    from rrbot_workshop.classroom.class_report import build_report, hub_users, hub_workspaces
+    from rrbot_workshop.classroom.class_report_page import write_report
     from rrbot_workshop.classroom.learner_logs import shown
 
     if not args.workspaces and not args.hub:

@@ -47,6 +47,10 @@ __all__ = ["Room", "LearnerRun", "free_port", "run_cells", "portable_python", "S
 SERVICE = "rrbot-class"
 #: What the hub's log says when the hub and a server differ in version enough to matter (JupyterHub's own words).
 VERSION_WARNING = "could cause failure to authenticate"
+#: Seconds :meth:`Room.stop` waits for the hub to stop its servers (SIGTERM to the hub) before killing it.
+STOP_WAIT = 90.0
+#: Seconds it then waits for servers and kernels that were told to stop to end by themselves.
+ENDING_WAIT = 20.0
 
 
 def free_port() -> int:
@@ -431,11 +435,15 @@ c.JupyterHub.cleanup_servers = True
         if self.process is not None and self.process.poll() is None:
             # the hub stops every server (cleanup_servers), its services and its proxy when it ends
             os.killpg(self.process.pid, signal.SIGTERM)
-            try:
-                self.process.wait(timeout=30)
+            try:  # each server gets the spawner's interrupt, then terminate, timeouts (10 s + 5 s) and more on a busy machine
+                self.process.wait(timeout=STOP_WAIT)
             except subprocess.TimeoutExpired:
                 os.killpg(self.process.pid, signal.SIGKILL)
                 self.process.wait()
+        # servers and kernels told to stop may still be ending (closing kernels, writing files): wait a while
+        deadline = time.monotonic() + ENDING_WAIT
+        while self.processes() and time.monotonic() < deadline:
+            time.sleep(0.2)
         left = self._leftovers()
         self._remove_accounts()
         return left

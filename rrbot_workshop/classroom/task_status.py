@@ -34,12 +34,13 @@ from __future__ import annotations
 import math
 from collections.abc import Collection, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
+from datetime import datetime
 from typing import Any
 
 from rrbot_workshop.exceptions import CourseError
 
 __all__ = ["NOT_STARTED", "WORKING", "STUCK", "PASSED", "STATUSES", "DEFAULT_STUCK_AFTER_S", "Attempt", "TaskState",
-           "classify", "last_activity", "MAX_CHECKS", "MAX_NAME_CHARS", "MAX_REASON_CHARS"]
+           "classify", "last_activity", "local_time", "MAX_CHECKS", "MAX_NAME_CHARS", "MAX_REASON_CHARS"]
 
 NOT_STARTED = "not started"
 WORKING = "working"
@@ -224,3 +225,10 @@ def classify(attempts: Sequence[Attempt], now: float, stuck_after: float = DEFAU
 def last_activity(attempts: Iterable[Attempt]) -> float | None:
     """The time of the latest self-check among ``attempts`` (any task) [s since the epoch], or None."""
     return max((a.time for a in attempts), default=None)
+
+
+def local_time(when: float | None) -> str:
+    """``when`` [s since the epoch] as local time, ``2026-05-04 10:32:05 +0200``; ``""`` for None."""
+    if when is None:
+        return ""
+    return datetime.fromtimestamp(when).astimezone().strftime("%Y-%m-%d %H:%M:%S %z")

@@ -56,6 +56,9 @@ class ControllerNode(Node):
     ) -> None:
         super().__init__(name, bus, namespace, clock)
         self.parameters: dict[str, Any] = parameters
+        #: Bumped by every :meth:`set_parameters`: a controller that watches its parameters while running (as Jazzy's
+        #: ``param_listener_->is_old(params_)``) compares it with the revision it last read.
+        self.parameters_revision = 0
 
     def get_parameter(self, name: str, default: Any = None) -> Any:
         """Value of a (dotted) parameter name as given in the YAML, or ``default``."""
@@ -67,13 +70,18 @@ class ControllerNode(Node):
         return node
 
     def set_parameters(self, values: dict[str, Any]) -> None:
-        """Set parameters by dotted name (like ``ros2 param set``); read at the next configure."""
+        """Set parameters by dotted name (like ``ros2 param set``); read at the next configure.
+
+        A controller that re-reads its parameters while it runs (``pid_controller``, as in Jazzy) also sees them at its
+        next update.
+        """
         for name, value in values.items():
             node = self.parameters
             parts = name.split(".")
             for part in parts[:-1]:
                 node = node.setdefault(part, {})
             node[parts[-1]] = value
+        self.parameters_revision += 1
 
 
 _BASE_SCHEMA = ParameterSchema(

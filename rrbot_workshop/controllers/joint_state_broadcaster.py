@@ -7,7 +7,8 @@ The broadcaster claims no command interface. It reads state interfaces (all of t
   ``velocity`` or ``effort`` interface (after ``map_interface_to_joint_state`` renames custom names);
   a field the joint does not have is NaN;
 * ``/dynamic_joint_states`` (``control_msgs/DynamicJointState``): every interface of every prefix
-  (joints, sensors, GPIOs).
+  (joints, sensors, GPIOs), under the same names: an interface that ``map_interface_to_joint_state`` maps
+  is listed as ``position``, ``velocity`` or ``effort`` here too, as Jazzy does.
 
 Rules follow the Jazzy release (ros2_controllers 4.x):
 
@@ -202,16 +203,17 @@ joint_state_broadcaster:
             self.logger.error("'%s': no state interfaces to publish; it cannot activate", self.get_name())
             return CallbackReturn.ERROR
         self._targets = []
-        where: dict[str, dict[str, int]] = {}  # prefix -> mapped field -> index among the values read
-        layout: dict[str, list[tuple[str, int]]] = {}
+        # prefix -> mapped interface name -> index of its value among the values read, in claim order
+        layout: dict[str, dict[str, int]] = {}
         for index, loan in enumerate(self.state_interfaces):
             prefix, itf = loan.prefix_name, loan.interface_name
             if getattr(loan, "data_type", "double") not in ("double", "float32"):
                 self._targets.append(None)  # both messages carry doubles: Jazzy leaves other types out of both
                 continue
-            layout.setdefault(prefix, []).append((itf, index))
             mapped = self._map.get(itf, itf)
-            where.setdefault(prefix, {})[mapped] = index
+            # Jazzy keeps one value per (prefix, mapped name): two interfaces that map to the same name share it,
+            # and the later one in claim order wins (TestCustomInterfaceMapping shows the mapped name in both messages)
+            layout.setdefault(prefix, {})[mapped] = index
             self._targets.append((prefix, mapped))
 
         # Jazzy walks the interfaces backwards and reverses the result: each name sits at its last occurrence.
@@ -231,17 +233,17 @@ joint_state_broadcaster:
             names = [j for j in self._urdf[1] if j in names]
         extras = []
         for extra in self._extra_joints:
-            if extra not in where and extra not in layout:
+            if extra not in layout:
                 extras.append(extra)
                 names.append(extra)
         self.joint_names = names
         self._read_values = value_snapshot(self.state_interfaces)
         # JointState: per field, for each joint, the index of its value (-1: NaN, -2: an extra joint's 0.0)
         self._js_plan = [
-            [-2 if j in extras else where.get(j, {}).get(f, -1) for j in names] for f in _JOINT_STATE_FIELDS
+            [-2 if j in extras else layout.get(j, {}).get(f, -1) for j in names] for f in _JOINT_STATE_FIELDS
         ]
         # DynamicJointState: (prefix, interface names, value indices or None for an extra joint)
-        self._dynamic_plan = [(prefix, [i for i, _ in itfs], [k for _, k in itfs]) for prefix, itfs in layout.items()]
+        self._dynamic_plan = [(prefix, list(itfs), list(itfs.values())) for prefix, itfs in layout.items()]
         self._dynamic_plan += [(extra, list(_JOINT_STATE_FIELDS), None) for extra in extras]
         return CallbackReturn.SUCCESS
 
@@ -279,8 +281,7 @@ def _joint_state(time: float, frame: str, names: list[str], plan: list[list[int]
 def _dynamic_joint_state(
     time: float, frame: str, plan: list[tuple[str, list[str], list[int] | None]], values: Sequence[Any]
 ) -> DynamicJointState:
-    # Jazzy lists the *mapped* names here (and in unordered_map order); we keep the real interface names in claim
-    # order, so the topic shows what the hardware exports.
+    # Jazzy lists the mapped names too; it walks unordered maps, so its order is unspecified: ours is claim order
     msg = DynamicJointState(header=Header(stamp=time, frame_id=frame))
     for prefix, itfs, indices in plan:
         vals = [0.0] * len(itfs) if indices is None else [_as_float(values[k]) for k in indices]

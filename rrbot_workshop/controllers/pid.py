@@ -14,8 +14,14 @@ the first). Interfaces are ordered interface-major, as in ros2_controllers: all 
 interface, then all DOFs of the second.
 
 Feed-forward is off by default, as in Jazzy: ``feedforward_gain`` counts only once it is switched on, by the
-parameter ``enable_feedforward: true`` (read at configure) or by the service ``~/set_feedforward_control``
-(``std_srvs/SetBool``; Jazzy marks both for deprecation in favour of a non-zero gain alone).
+parameter ``enable_feedforward: true`` or by the service ``~/set_feedforward_control`` (``std_srvs/SetBool``; Jazzy
+marks both for deprecation in favour of a non-zero gain alone). A YAML that sets a gain and leaves the mode off gets a
+command without feed-forward (lint warns about it).
+
+As Jazzy's ``update_parameters``, the controller re-reads its parameters at the next update after any of them is set
+(``get_node().set_parameters``): ``enable_feedforward`` then sets the mode again (overriding the service), and the
+gains take effect at once. Parameters that shape the interfaces (``dof_names``, ``command_interface``,
+``reference_and_state_*``, ``use_external_measured_states``) wait for the next configure.
 
 Differences from Jazzy, on purpose: ``~/reference`` messages are matched to DOFs by name (Jazzy's callback means
 to reorder them but does not).
@@ -26,7 +32,7 @@ from __future__ import annotations
 import math
 from typing import Any, ClassVar
 
-from rrbot_workshop.control_toolbox.pid import Pid
+from rrbot_workshop.control_toolbox.pid import Gains, Pid
 from rrbot_workshop.controller_interface.base import (
     ChainableControllerInterface,
     InterfaceConfiguration,
@@ -63,8 +69,8 @@ class PidController(ChainableControllerInterface):
 
     Attributes:
         pids: One :class:`~rrbot_workshop.control_toolbox.pid.Pid` per DOF (created at configure).
-        feedforward_mode_enabled: Whether ``feedforward_gain`` is applied (``enable_feedforward`` at configure, then
-            ``~/set_feedforward_control``).
+        feedforward_mode_enabled: Whether ``feedforward_gain`` is applied: ``enable_feedforward`` whenever the
+            parameters are read anew, and ``~/set_feedforward_control`` in between.
         reference_and_state_dof_names: DOF names used for references and states.
     """
 
@@ -87,6 +93,10 @@ class PidController(ChainableControllerInterface):
         self._state_pub: Publisher | None = None
         self._ff_srv: Any = None
         self.feedforward_mode_enabled = False
+        self._revision: int | None = None  # the node's parameters_revision the parameters were last read at
+        self._external_states = False  # use_external_measured_states, as configured
+        self._command_interface = ""  # as configured
+        self._gains: dict[str, Any] = {}  # each configured DOF's gains.<dof> parameters, live
 
     # ----------------------------------------------------------------- configuration
     def on_configure(self, previous_state: State) -> CallbackReturn:
@@ -119,6 +129,14 @@ class PidController(ChainableControllerInterface):
                 return CallbackReturn.FAILURE
 
         node = self.get_node()
+        if node.parameters_revision != self._revision:
+            # Jazzy's update_parameters sets the mode only from parameters it has not read yet: a mode set by the
+            # service survives a cleanup and configure with unchanged parameters
+            self.feedforward_mode_enabled = bool(params.enable_feedforward)
+        self._revision = node.parameters_revision
+        self._external_states = bool(params.use_external_measured_states)
+        self._command_interface = params.command_interface
+        self._gains = {dof: params.gains.dof_names_map[dof] for dof in self._dof_names}
         self._ref_msg = self._empty_msg()
         self._measured_msg = self._empty_msg()
         self._measured = [math.nan] * (self._dof * len(self._interfaces))
@@ -130,10 +148,37 @@ class PidController(ChainableControllerInterface):
                 MultiDOFCommand, "~/measured_state", self._on_measured_state)
         if self._state_pub is None:
             self._state_pub = node.create_publisher(MultiDOFStateStamped, "~/controller_state")
-        self.feedforward_mode_enabled = bool(params.enable_feedforward)
         if self._ff_srv is None:
             self._ff_srv = node.create_service(SetBoolRequest, "~/set_feedforward_control", self._on_set_feedforward)
         return CallbackReturn.SUCCESS
+
+    def _update_parameters(self) -> None:
+        """Re-read the parameters after one was set (Jazzy's ``update_parameters``, called at each update).
+
+        The feed-forward mode follows ``enable_feedforward`` again and each DOF's Pid takes its new gains. Invalid
+        values are logged and the running ones stay.
+        """
+        assert self.param_listener is not None and self._params is not None
+        self._revision = self.get_node().parameters_revision
+        try:
+            params = self.param_listener.refresh()
+        except ParameterError as exc:
+            self.logger.error("'%s': new parameters not taken: %s; the running ones stay", self.get_name(), exc)
+            return
+        for name in ("dof_names", "reference_and_state_dof_names", "command_interface",
+                     "reference_and_state_interfaces", "use_external_measured_states"):
+            if params[name] != self._params[name]:
+                self.logger.warning("'%s': parameter '%s' changed to %r; it takes effect at the next configure",
+                                    self.get_name(), name, params[name])
+        for dof, pid in zip(self._dof_names, self.pids, strict=True):
+            g = params.gains.dof_names_map.get(dof)  # None: dof_names changed, this DOF's gains stay until configure
+            if g is not None:  # as control_toolbox's PidROS: invalid gains are logged and the old ones stay
+                if pid.set_gains(Gains(g.p, g.i, g.d, g.u_clamp_max, g.u_clamp_min, g.i_clamp_max, g.i_clamp_min,
+                                       g.antiwindup_strategy, g.tracking_time_constant, g.error_deadband,
+                                       g.antiwindup)):
+                    self._gains[dof] = g
+        self._params = params
+        self.feedforward_mode_enabled = bool(params.enable_feedforward)
 
     def _on_set_feedforward(self, request: SetBoolRequest) -> SetBoolResponse:
         if not isinstance(request, SetBoolRequest) or not isinstance(request.data, bool):
@@ -158,12 +203,12 @@ class PidController(ChainableControllerInterface):
 
     def command_interface_configuration(self) -> InterfaceConfiguration:
         """``<dof>/<command_interface>`` for each DOF."""
-        itf = self._params.command_interface if self._params is not None else ""
+        itf = self._command_interface
         return InterfaceConfiguration(InterfaceConfigurationType.INDIVIDUAL, [f"{d}/{itf}" for d in self._dof_names])
 
     def state_interface_configuration(self) -> InterfaceConfiguration:
         """``<ref_dof>/<interface>``, interface-major; none with external measured states."""
-        if self._params is not None and self._params.use_external_measured_states:
+        if self._params is not None and self._external_states:
             return InterfaceConfiguration(InterfaceConfigurationType.NONE)
         names = [f"{d}/{i}" for i in self._interfaces for d in self.reference_and_state_dof_names]
         return InterfaceConfiguration(InterfaceConfigurationType.INDIVIDUAL, names)
@@ -235,8 +280,8 @@ class PidController(ChainableControllerInterface):
             h.set_value(math.nan)
         self._measured = [math.nan] * len(self._measured)
         for dof, pid in zip(self._dof_names, self.pids, strict=True):
-            pid.reset(save_i_term=self._params.gains.dof_names_map[dof].save_i_term)
-        if self._params.set_current_state_as_first_setpoint and not self._params.use_external_measured_states:
+            pid.reset(save_i_term=self._gains[dof].save_i_term)
+        if self._params.set_current_state_as_first_setpoint and not self._external_states:
             for h, loan in zip(self.reference_interfaces, self.state_interfaces):  # noqa: B905 - strict= is slow
                 h.set_value(float(loan.get_value()))
         return CallbackReturn.SUCCESS
@@ -262,9 +307,11 @@ class PidController(ChainableControllerInterface):
 
     def update_and_write_commands(self, time: float, period: float) -> ReturnType:
         """Run each DOF's PID and write its command; publish ``~/controller_state``."""
+        if self._node is not None and self._node.parameters_revision != self._revision:
+            self._update_parameters()
         assert self._params is not None
         n = self._dof
-        if self._params.use_external_measured_states:
+        if self._external_states:
             m = self._measured_msg
             if m is not None:
                 for i in range(n):
@@ -279,7 +326,7 @@ class PidController(ChainableControllerInterface):
 
         refs = [h.get_value() for h in self.reference_interfaces]
         two = len(refs) == 2 * n and len(self._measured) == 2 * n
-        gains = self._params.gains.dof_names_map
+        gains = self._gains
         feedforward = self.feedforward_mode_enabled
         for i in range(n):
             ref, state = refs[i], self._measured[i]
@@ -319,3 +366,4 @@ def _state_message(time: float, period: float, names: list[str], dof_names: list
             s.error_dot = refs[n + i] - measured[n + i]
         msg.dof_states.append(s)
     return msg
+

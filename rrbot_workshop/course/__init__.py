@@ -1,4 +1,5 @@
-"""The course around the library: tracks (exercises or solutions), grading, the notebook magics, the CLI.
+"""What a learner meets: tracks (exercises or solutions), the learner's helpers, the notebook magics, the fault lab,
+grading, and the course's commands (grade, progress, tasks, reset, export).
 
 The names below are what notebook cells use to reach the learner's files (``rw.course.load_module(3,
 "answers.py")``; see :mod:`rrbot_workshop.course.learner`), to say where the learner's code raised

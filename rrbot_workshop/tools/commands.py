@@ -36,13 +36,21 @@ def add_commands(sub: Any) -> dict[str, Callable[[argparse.Namespace], int]]:
     lint = sub.add_parser("lint", help="check controllers YAML files and descriptions against what Jazzy accepts")
     lint.add_argument("files", nargs="+", metavar="FILE",
                       help="controllers YAML (.yaml/.yml) or description (.urdf/.xacro) files")
-    lint.add_argument("--description", metavar="URDF",
-                      help="a URDF or xacro file: also check that every interface a controller uses exists in it")
-    lint.add_argument("--xacro-arg", action="append", default=[], metavar="NAME:=VALUE",
-                      help="an argument for the xacro file(s), as xacro takes it (repeatable)")
+    lint.add_argument("--description", action="append", default=[], metavar="[NS=]URDF",
+                      help="a URDF or xacro file: also check that every interface a controller uses exists in it. "
+                           "With several controller managers in the YAML, give each its own: NS=URDF, NS being the "
+                           "manager's namespace (/rrbot_1) or full name (/rrbot_1/controller_manager); a plain URDF "
+                           "is for every manager not named (repeatable)")
+    lint.add_argument("--namespace", metavar="NS", default=None,
+                      help="the controller manager's namespace (/rrbot_1), as the launch file gives ros2_control_node: "
+                           "check only that manager, with the YAML's /rrbot_1/... and /**/... sections")
     lint.add_argument("--arg", action="append", default=[], metavar="NAME:=VALUE",
-                      help="a launch argument: its value replaces $(var NAME) in the YAML files, as ros2 launch "
-                           "substitutes a parameter file (repeatable)")
+                      help="a launch argument: a xacro argument of the description(s) and the value of $(var NAME) "
+                           "in the YAML files, as a launch file passes its arguments to both (repeatable; the same "
+                           "as bringup --arg)")
+    lint.add_argument("--xacro-arg", action="append", default=[], metavar="NAME:=VALUE",
+                      help="an argument for the xacro file(s) only, as xacro takes it; it wins over an --arg of the "
+                           "same name (repeatable)")
     lint.add_argument("--package-path", action="append", default=[], metavar="DIR",
                       help="a folder holding ROS packages (source or install trees) where the description's "
                            "$(find pkg) and package:// are looked up (repeatable)")
@@ -108,18 +116,58 @@ def _xacro_args(pairs: Sequence[str], option: str = "--xacro-arg",
 def _cmd_lint(args: argparse.Namespace) -> int:
     from rrbot_workshop.tools.lint import format_findings, lint_controllers, lint_description
 
-    xacro_args = _xacro_args(args.xacro_arg)
     launch_args = _xacro_args(args.arg, "--arg", "joint_prefix:=rrbot_")
+    xacro_args = {**launch_args, **_xacro_args(args.xacro_arg)}
     package_path = [str(Path(p).expanduser()) for p in args.package_path]
+    descriptions = _lint_descriptions(args.description)
+    namespace = None if args.namespace is None else _namespace("--namespace", args.namespace)
     findings = []
     for name in args.files:
         if Path(name).suffix.lower() in (".yaml", ".yml"):
-            findings += lint_controllers(name, args.description, xacro_args, launch_args=launch_args,
-                                         package_path=package_path)
+            findings += lint_controllers(name, descriptions or None, xacro_args, launch_args=launch_args,
+                                         package_path=package_path, namespace=namespace)
         else:
             findings += lint_description(name, xacro_args, package_path=package_path)
     print(format_findings(findings))
     return LINT_ERRORS if any(f.level == "error" for f in findings) else 0
+
+
+def _namespace(option: str, value: str) -> str:
+    """A namespace or manager name given on the command line, as ``/a/b``.
+
+    Raises:
+        CourseError: If it is not ``/`` or ``/``-separated names of letters, digits and underscores.
+    """
+    tokens = value.strip().strip("/").split("/")
+    if value.strip().strip("/") and not all(_XACRO_ARG_NAME.match(t) for t in tokens):
+        raise CourseError(option, value, f"{option} {value!r} is not a ROS namespace: names of letters, digits and "
+                          "underscores separated by '/'", ["/rrbot_1", "/rrbot_1/controller_manager", "/"])
+    return "/" + "/".join(t for t in tokens if t)
+
+
+def _lint_descriptions(values: Sequence[str]) -> dict[str, str]:
+    """``--description [NS=]URDF`` values -> ``{namespace or manager name, or "" for every manager: file}``.
+
+    Raises:
+        CourseError: If a value has no file, or two values are for the same managers.
+    """
+    from rrbot_workshop.tools.lint.descriptions import EVERY_MANAGER, split_description_option
+
+    out: dict[str, str] = {}
+    for value in values:
+        who, file = split_description_option(value)
+        if who != EVERY_MANAGER:
+            who = _namespace("--description", who)
+        if not file:
+            raise CourseError("--description", value, f"--description {value!r} names no file; give NS=URDF or URDF",
+                              ["/rrbot_1=rrbot.urdf.xacro", "rrbot.urdf.xacro"])
+        if who in out:
+            whom = f"the managers of '{who}'" if who else "every manager"
+            raise CourseError("--description", value, f"--description is given twice for {whom} ({out[who]!r} and "
+                              f"{file!r}); give each manager its own with NS=URDF", ["/rrbot_1=a.xacro",
+                                                                                     "/rrbot_2=b.xacro"])
+        out[who] = file
+    return out
 
 
 def _bringup_args(pairs: Sequence[str]) -> dict[str, str]:

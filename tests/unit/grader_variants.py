@@ -34,6 +34,7 @@ from pathlib import Path
 
 from rrbot_workshop.course import tracks
 from rrbot_workshop.course.grading import Rubric, grade
+from rrbot_workshop.course.grading.pytest_process import warm_up
 
 __all__ = ["Variant", "build_variant", "grade_variants", "assert_loses_points", "assert_full_marks",
            "reason_problems"]
@@ -106,6 +107,7 @@ def grade_variants(task: int, variants: Iterable[Variant], tmp: Path, workers: i
     if duplicates:
         raise AssertionError(f"variant names must be unique: {sorted(duplicates)}")
     roots = {v.name: build_variant(task, v, tmp / v.name) for v in listed}
+    warm_up()  # many gradings follow: fork them from one process that has imported what graders use
     share = (os.cpu_count() or 2) // int(os.environ.get("PYTEST_XDIST_WORKER_COUNT", "1") or 1)
     with ThreadPoolExecutor(max_workers=workers or max(1, share)) as pool:
         futures = {name: pool.submit(grade, task, task_root=root, record=False) for name, root in roots.items()}

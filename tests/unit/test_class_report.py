@@ -17,11 +17,10 @@ from rrbot_workshop.classroom.class_report import (
     Workspace,
     build_report,
     find_workspaces,
-    local_time,
     untouched_versions,
-    write_report,
 )
-from rrbot_workshop.classroom.task_status import NOT_STARTED, PASSED, STUCK, WORKING
+from rrbot_workshop.classroom.class_report_page import write_report
+from rrbot_workshop.classroom.task_status import NOT_STARTED, PASSED, STUCK, WORKING, local_time
 from rrbot_workshop.cli import main
 from rrbot_workshop.course.grading.attempts import files_version
 from rrbot_workshop.exceptions import CourseError

@@ -9,7 +9,8 @@ from pathlib import Path
 import pytest
 from browser_driver import CHROMIUM, Browser, unavailable
 
-from rrbot_workshop.classroom.class_report import WORKSPACE_NAME, build_report, write_report
+from rrbot_workshop.classroom.class_report import WORKSPACE_NAME, build_report
+from rrbot_workshop.classroom.class_report_page import write_report
 from rrbot_workshop.classroom.task_status import STATUSES
 
 pytestmark = [pytest.mark.browser]

@@ -15,7 +15,8 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from workspace_helpers import no_hang, tree
 
-from rrbot_workshop.classroom.class_report import WORKSPACE_NAME, build_report, csv_cell, write_report
+from rrbot_workshop.classroom.class_report import WORKSPACE_NAME, build_report
+from rrbot_workshop.classroom.class_report_page import csv_cell, write_report
 from rrbot_workshop.classroom.learner_logs import MAX_JSON_DEPTH, MAX_LEARNER_BYTES, MAX_LOG_BYTES, shown
 from rrbot_workshop.classroom.task_status import PASSED, STATUSES, STUCK
 from rrbot_workshop.cli import main

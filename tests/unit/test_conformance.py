@@ -14,12 +14,13 @@ from pathlib import Path
 from typing import Any
 
 import pytest
+from upstream import shared_folder
 
 from rrbot_workshop.description import HardwareInfo, parse_ros2_control
 from rrbot_workshop.exceptions import DescriptionError
 
 REPO_ROOT = Path(__file__).resolve().parents[2]
-CASES_DIR = REPO_ROOT.parent / "shared" / "conformance" / "ros2_control_parser"
+CASES_DIR = (shared_folder() or REPO_ROOT.parent / "shared") / "conformance" / "ros2_control_parser"
 CASES_FILE = CASES_DIR / "component_parser_cases.json"
 SUITE = "ros2_control parser"
 

@@ -146,10 +146,90 @@ def test_map_interface_to_joint_state_renames_custom_interfaces():
     assert (msg.position, msg.velocity, msg.effort) == ([0.4], [0.5], [0.6])
 
 
-def test_dynamic_joint_states_keep_the_real_interface_names_under_mapping():
-    states = {"joint1/actual_position": 0.4}
+# The upstream fixture's custom interface: joint1/measured_position = 3.5
+CUSTOM = {"joint1/position": 1.1, "joint1/velocity": 2.1, "joint1/effort": 3.1, "joint1/measured_position": 3.5}
+
+
+def test_custom_interface_without_mapping_is_only_in_dynamic_joint_states():
+    """ros2_controllers joint_state_broadcaster/test/test_joint_state_broadcaster.cpp, TestCustomInterfaceWithoutMapping
+    (jazzy): an unmapped custom interface lists no joint in /joint_states and keeps its name in the dynamic message."""
+    h = _run({"joints": ["joint1"], "interfaces": ["measured_position"]}, states=CUSTOM)
+    msg = h.latest("/joint_states")
+    assert msg.name == [] and msg.position == [] and msg.velocity == [] and msg.effort == []
+    dynamic = h.latest("/dynamic_joint_states")
+    assert dynamic.joint_names == ["joint1"]
+    assert dynamic.interface_values[0].interface_names == ["measured_position"]
+
+
+def test_custom_interface_mapping_names_the_interface_position_in_both_messages():
+    """ros2_controllers joint_state_broadcaster/test/test_joint_state_broadcaster.cpp, TestCustomInterfaceMapping
+    (jazzy): map_interface_to_joint_state.position = measured_position: the joint is in /joint_states with NaN
+    velocity and effort, and /dynamic_joint_states lists the interface as "position"."""
+    h = _run({"joints": ["joint1"], "interfaces": ["measured_position"],
+              "map_interface_to_joint_state": {"position": "measured_position"}}, states=CUSTOM)
+    cfg = h.controller.state_interface_configuration()
+    assert cfg.type is InterfaceConfigurationType.INDIVIDUAL and cfg.names == ["joint1/measured_position"]
+    msg = h.latest("/joint_states")
+    assert msg.name == ["joint1"] and math.isnan(msg.velocity[0]) and math.isnan(msg.effort[0])
+    dynamic = h.latest("/dynamic_joint_states")
+    assert dynamic.joint_names == ["joint1"]
+    assert dynamic.interface_values[0].interface_names == ["position"]
+
+
+def test_custom_interface_mapping_update_publishes_the_custom_value_as_position():
+    """ros2_controllers joint_state_broadcaster/test/test_joint_state_broadcaster.cpp, TestCustomInterfaceMappingUpdate
+    (jazzy): after an update both messages carry measured_position's value (3.5) under "position"."""
+    h = _run({"joints": ["joint1"], "interfaces": ["measured_position"],
+              "map_interface_to_joint_state": {"position": "measured_position"}}, states=CUSTOM)
+    msg = h.latest("/joint_states")
+    assert msg.header.frame_id == "base_link"
+    assert msg.name == ["joint1"] and msg.position == [3.5]
+    assert math.isnan(msg.velocity[0]) and math.isnan(msg.effort[0])
+    dynamic = h.latest("/dynamic_joint_states")
+    assert dynamic.header.frame_id == "base_link"
+    assert dynamic.interface_values[0].interface_names == ["position"] and dynamic.interface_values[0].values == [3.5]
+
+
+def test_custom_interface_mapping_ignored_when_velocity_is_requested(caplog):
+    """ros2_controllers joint_state_broadcaster/test/test_joint_state_broadcaster.cpp,
+    TestCustomInterfaceMappingIgnoredWhenVelocityInterfaceIsRequested (jazzy): 'velocity' listed in 'interfaces'
+    keeps its own meaning, the custom mapping is dropped with a warning; position and effort stay NaN."""
+    h = ControllerHarness(JointStateBroadcaster(), "joint_state_broadcaster",
+                          {"joints": ["joint1"], "interfaces": ["velocity"],
+                           "map_interface_to_joint_state": {"velocity": "derived_velocity"}},
+                          state_values={**CUSTOM, "joint1/derived_velocity": 7.0})
+    with caplog.at_level("WARNING"):
+        assert h.configure() is State.INACTIVE
+    assert "derived_velocity" in caplog.text and "is not applied" in caplog.text
+    assert h.controller.state_interface_configuration().names == ["joint1/velocity"]
+    assert h.activate() is State.ACTIVE
+    h.update()
+    msg = h.latest("/joint_states")
+    assert msg.name == ["joint1"] and msg.velocity == [2.1]
+    assert math.isnan(msg.position[0]) and math.isnan(msg.effort[0])
+
+
+def test_in_all_mode_a_mapped_interface_is_named_position_in_dynamic_joint_states():
+    """Same rule as TestCustomInterfaceMapping (jazzy) with every state interface claimed: each prefix lists the
+    mapped name, and the other interfaces keep theirs."""
+    states = {"joint1/actual_position": 0.4, "joint1/velocity": 0.5, "fts/force.x": 2.0}
     h = _run({"map_interface_to_joint_state": {"position": "actual_position"}}, states=states)
-    assert h.latest("/dynamic_joint_states").interface_values[0].interface_names == ["actual_position"]
+    dynamic = h.latest("/dynamic_joint_states")
+    assert dynamic.joint_names == ["joint1", "fts"]
+    assert dynamic.interface_values[0].interface_names == ["position", "velocity"]
+    assert dynamic.interface_values[0].values == [0.4, 0.5]
+    assert dynamic.interface_values[1].interface_names == ["force.x"]
+
+
+def test_two_interfaces_mapped_to_one_name_share_one_value_the_later_claimed_wins():
+    """Jazzy's broadcaster keeps one value per joint and mapped name (joint_state_broadcaster.cpp, init_joint_data):
+    'position' and a custom interface mapped to 'position' appear once, with the value claimed last."""
+    states = {"joint1/position": 1.0, "joint1/actual_position": 9.0}
+    h = _run({"map_interface_to_joint_state": {"position": "actual_position"}}, states=states)
+    assert h.latest("/joint_states").position == [9.0]
+    dynamic = h.latest("/dynamic_joint_states")
+    assert dynamic.interface_values[0].interface_names == ["position"]
+    assert dynamic.interface_values[0].values == [9.0]
 
 
 def test_mapping_is_not_applied_when_standard_name_is_listed_in_interfaces(caplog):

@@ -152,3 +152,44 @@ def test_a_packages_own_cpp_controller_is_a_note_and_an_undeclared_type_an_error
     declared = lint_controllers(yaml_file)
     assert [(f.level, f.where) for f in declared] == [("note", "arm_controller.type")]
     assert "arm_demo/arm_demo_plugins.xml" in declared[0].message and "controller_types" in declared[0].message
+
+
+_PID = """\
+controller_manager:
+  ros__parameters:
+    update_rate: 100
+    arm_pid:
+      type: pid_controller/PidController
+
+arm_pid:
+  ros__parameters:
+    dof_names: [joint1]
+    command_interface: velocity
+    reference_and_state_interfaces: [position]
+{extra}    gains:
+      joint1: {{p: 1.0, feedforward_gain: {gain}}}
+"""
+
+
+def test_a_feedforward_gain_with_the_mode_off_is_a_warning(tmp_path: Path) -> None:
+    """Jazzy's pid_controller leaves feedforward_gain out unless feed-forward mode is on
+    (test_update_chained_feedforward_off_with_gain): lint warns at the gain's line."""
+    (finding,) = _lint(tmp_path, _PID.format(extra="", gain=0.95))
+    assert finding.level == "warning" and finding.line == 13
+    assert finding.where == "arm_pid.gains.joint1.feedforward_gain"
+    assert "is 0.95, but feed-forward mode is off" in finding.message and "enable_feedforward: true" in finding.message
+
+
+@pytest.mark.parametrize("extra, gain", [
+    ("    enable_feedforward: true\n", 0.95),
+    ("", 0.0),
+])
+def test_a_feedforward_gain_that_acts_or_is_zero_is_not_reported(tmp_path: Path, extra: str, gain: float) -> None:
+    """With enable_feedforward: true the gain acts; a zero gain changes nothing either way."""
+    assert _lint(tmp_path, _PID.format(extra=extra, gain=gain)) == []
+
+
+def test_a_feedforward_mode_from_a_launch_argument_is_not_judged(tmp_path: Path) -> None:
+    """enable_feedforward given as an unsubstituted $(var): only the missing argument is reported."""
+    findings = _lint(tmp_path, _PID.format(extra="    enable_feedforward: $(var ff)\n", gain=0.95))
+    assert [f.where for f in findings] == ["$(var ff)"]

@@ -277,3 +277,124 @@ def test_cli_prints_notes_and_counts_them(capsys: pytest.CaptureFixture[str]) ->
     out = capsys.readouterr().out
     assert status == 0 and ":20: note: rover_base.linear.x.min_acceleration:" in out
     assert out.rstrip().endswith("no problems found, 1 note(s)")
+
+
+def test_cli_arg_reaches_the_yaml_and_the_xacro(capsys: pytest.CaptureFixture[str]) -> None:
+    """``--arg`` means what it means for bringup and in a launch file: $(var NAME) in the YAML and a xacro argument of
+    the description (here joint_prefix for the YAML, prefix for the xacro)."""
+    status = main(["lint", str(_path("c06_launch_args.yaml")), "--description", str(_path("arm2.urdf.xacro")),
+                   "--arg", "joint_prefix:=tool_", "--arg", "prefix:=tool_"])
+    assert status == 0 and capsys.readouterr().out.strip() == "no problems found"
+
+
+def test_cli_xacro_arg_wins_over_arg_for_the_xacro_only(capsys: pytest.CaptureFixture[str]) -> None:
+    """``--xacro-arg prefix:=`` overrides ``--arg prefix:=tool_`` in the description: its joints lose the prefix the
+    YAML's joints have."""
+    status = main(["lint", str(_path("c06_launch_args.yaml")), "--description", str(_path("arm2.urdf.xacro")),
+                   "--arg", "joint_prefix:=tool_", "--arg", "prefix:=tool_", "--xacro-arg", "prefix:="])
+    out = capsys.readouterr().out
+    assert status == 1 and "claims command interface 'tool_joint1/position'" in out
+
+
+def _arm_urdfs(tmp_path: Path) -> tuple[Path, Path]:
+    from rrbot_workshop.description import process_xacro
+
+    left, right = tmp_path / "left.urdf", tmp_path / "right.urdf"
+    left.write_text(process_xacro(_path("arm2.urdf.xacro"), prefix="left_arm_"))
+    right.write_text(process_xacro(_path("arm2.urdf.xacro"), prefix="right_arm_"))
+    return left, right
+
+
+@pytest.mark.parametrize("options", [
+    ["--description", "/left_arm={left}", "--description", "/right_arm={right}"],
+    ["--description", "/left_arm/controller_manager={left}", "--description", "/right_arm/={right}"],
+    ["--description", "{right}", "--description", "/left_arm={left}"],
+])
+def test_cli_checks_each_manager_against_the_description_given_for_it(
+        options: list[str], tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """Two managers, two robots: NS=URDF (a namespace or a manager's full name) gives each its own; a plain URDF is
+    for every manager not named."""
+    left, right = _arm_urdfs(tmp_path)
+    options = [o.format(left=left, right=right) for o in options]
+    assert main(["lint", str(_path("c05_two_managers.yaml")), *options]) == 0
+    assert capsys.readouterr().out.strip() == "no problems found"
+
+
+def test_one_robot_for_two_managers_finds_the_other_arms_joints(tmp_path: Path) -> None:
+    """The left arm's description given for both managers: the right arm's controller claims joints it lacks."""
+    left, _ = _arm_urdfs(tmp_path)
+    findings = lint_controllers(_path("c05_two_managers.yaml"), left)
+    assert {(f.level, f.where) for f in findings} == {("error", "/right_arm/arm_position_commands")}
+    assert all("'right_arm_joint" in f.message for f in findings) and len(findings) == 2
+
+
+def test_a_manager_without_a_description_gets_its_parameters_checked_only(tmp_path: Path) -> None:
+    """A description for /left_arm alone: the right arm's interfaces are not judged (no robot given for it)."""
+    left, _ = _arm_urdfs(tmp_path)
+    assert lint_controllers(_path("c05_two_managers.yaml"), {"/left_arm": left}) == []
+
+
+@pytest.mark.parametrize(("options", "says"), [
+    (["--description", "/left_arm="], "names no file"),
+    (["--description", "a.urdf", "--description", "b.urdf"], "given twice for every manager"),
+    (["--description", "/left_arm=a.urdf", "--description", "/left_arm/=b.urdf"], "given twice for the managers of "
+                                                                                  "'/left_arm'"),
+    (["--description", "/left arm=a.urdf"], None),
+    (["--namespace", "/left arm"], "is not a ROS namespace"),
+])
+def test_cli_refuses_a_description_or_namespace_it_cannot_use(
+        options: list[str], says: str | None, capsys: pytest.CaptureFixture[str]) -> None:
+    """Usage errors exit 2 with a sentence naming the option; a value that is no namespace is a file name."""
+    status = main(["lint", str(_path("c05_two_managers.yaml")), *options])
+    err = capsys.readouterr()
+    if says is None:  # '/left arm' is not a namespace: the whole value is the file, which does not exist
+        assert status == 1 and "/left arm=a.urdf: error: description: /left arm=a.urdf: xacro file not found" in err.out
+        return
+    assert status == 2 and says in err.err
+
+
+def test_read_layout_in_given_namespaces_takes_the_sections_that_apply_there() -> None:
+    """With the namespace a launch file gives ros2_control_node: that manager only; the other namespace's sections
+    are another launch's, not unclaimed; a namespace the file does not name gets the '/**' sections."""
+    sections, _ = read_sections(yaml.safe_load(_path("c05_two_managers.yaml").read_text()))
+    left = read_layout(sections, ["left_arm"])
+    assert [m.fqn for m in left.managers] == ["/left_arm/controller_manager"] and left.unclaimed == []
+    assert left.managers[0].controllers["arm_position_commands"].parameters()["joints"] == ["left_arm_joint1",
+                                                                                            "left_arm_joint2"]
+    (third,) = read_layout(sections, ["/third/"]).managers
+    assert third.fqn == "/third/controller_manager"
+    assert third.controllers["arm_position_commands"].parameters() == {
+        "type": "forward_command_controller/ForwardCommandController", "interface_name": "position"}
+
+
+@pytest.mark.parametrize(("value", "expected"), [
+    ("/rrbot_1=rrbot.urdf.xacro", ("/rrbot_1", "rrbot.urdf.xacro")),
+    ("/rrbot_1/controller_manager=a=b.urdf", ("/rrbot_1/controller_manager", "a=b.urdf")),
+    ("/=root.urdf", ("/", "root.urdf")),
+    ("rrbot.urdf.xacro", ("", "rrbot.urdf.xacro")),
+    ("a=b.urdf", ("", "a=b.urdf")),
+])
+def test_split_description_option(value: str, expected: tuple[str, str]) -> None:
+    """``[NS=]URDF``: NS is '/' or a '/'-path of ROS names; anything else is part of the file name."""
+    from rrbot_workshop.tools.lint.descriptions import split_description_option
+
+    assert split_description_option(value) == expected
+
+
+def test_split_description_option_keeps_an_existing_file_whole(tmp_path: Path) -> None:
+    """A file that exists is a file, even when its path looks like NS=FILE."""
+    from rrbot_workshop.tools.lint.descriptions import split_description_option
+
+    (tmp_path / "x=y.urdf").write_text("<robot name='r'/>")
+    path = str(tmp_path / "x=y.urdf")
+    assert split_description_option(path) == ("", path)
+
+
+def test_manager_descriptions_parse_refuses_a_key_without_a_description() -> None:
+    """``ManagerDescriptions.parse`` of a namespace no description is given for raises KeyError."""
+    from rrbot_workshop.tools.lint.descriptions import ManagerDescriptions
+
+    descriptions = ManagerDescriptions({"/left_arm": _path("arm2.urdf.xacro")}, {}, ())
+    assert descriptions.keys() == ["/left_arm"]
+    with pytest.raises(KeyError):
+        descriptions.parse("/right_arm")

@@ -11,8 +11,8 @@ from rrbot_workshop.controller_interface.base import InterfaceConfigurationType
 from rrbot_workshop.controllers.pid import PidController, shortest_angular_distance
 from rrbot_workshop.exceptions import ParameterError
 from rrbot_workshop.middleware import plugins
-from rrbot_workshop.middleware.lifecycle import State
-from rrbot_workshop.msgs import MultiDOFCommand, MultiDOFStateStamped
+from rrbot_workshop.middleware.lifecycle import ReturnType, State
+from rrbot_workshop.msgs import MultiDOFCommand, MultiDOFStateStamped, SetBoolRequest
 from rrbot_workshop.testing import ControllerHarness
 
 NAME = "test_pid_controller"
@@ -163,16 +163,185 @@ def test_feedforward_is_off_by_default_even_with_a_gain():
     assert h.value("joint1/acceleration") == pytest.approx(1.95)
 
 
-def test_set_feedforward_control_service_switches_feedforward_on():
-    """Jazzy's ~/set_feedforward_control (std_srvs/SetBool) switches feed-forward at run time."""
-    from rrbot_workshop.msgs import SetBoolRequest
-
-    h = _active(_params(gains={"joint1": {"p": 0.5, "feedforward_gain": 1.0}}), chained=True)
+def test_feedforward_mode_service():
+    """ros2_controllers pid_controller/test/test_pid_controller.cpp, test_feedforward_mode_service (jazzy): the mode is
+    off after configure and activate; ~/set_feedforward_control (std_srvs/SetBool) turns it on, then off again."""
+    h = _harness(_params(set_current_state_as_first_setpoint=True, gains={"joint1": {"p": 1.0, "i": 2.0, "d": 3.0}}))
+    assert h.controller.feedforward_mode_enabled is False
+    assert h.configure() is State.INACTIVE and h.activate() is State.ACTIVE
+    assert h.controller.feedforward_mode_enabled is False
     response = h.bus.call_service(f"/{NAME}/set_feedforward_control", SetBoolRequest(data=True))
-    assert response.success and h.controller.feedforward_mode_enabled
+    assert response.success and h.controller.feedforward_mode_enabled is True
+    response = h.bus.call_service(f"/{NAME}/set_feedforward_control", SetBoolRequest(data=False))
+    assert response.success and h.controller.feedforward_mode_enabled is False
+
+
+def test_set_feedforward_control_service_applies_the_gain():
+    """The service's mode counts in the next update: test_update_chained_feedforward_with_gain's 6.95 (jazzy) with the
+    mode switched by ~/set_feedforward_control instead of enable_feedforward."""
+    h = _active(_params(gains={"joint1": {"p": 0.5, "feedforward_gain": 1.0}}), chained=True)
+    h.bus.call_service(f"/{NAME}/set_feedforward_control", SetBoolRequest(data=True))
     _set_ref(h, "joint1/position", 5.0)
     h.update()
     assert h.value("joint1/acceleration") == pytest.approx(6.95)
+
+
+def test_set_feedforward_control_service_refuses_a_request_without_a_bool():
+    """A request whose 'data' is not a bool is answered success=False and changes nothing."""
+    h = _active(_params(gains={"joint1": {"p": 0.5, "feedforward_gain": 1.0}}), chained=True)
+    response = h.bus.call_service(f"/{NAME}/set_feedforward_control", SetBoolRequest(data="yes"))  # type: ignore[arg-type]
+    assert response.success is False and "bool" in response.message
+    assert h.controller.feedforward_mode_enabled is False
+
+
+def test_feedforward_mode_parameter():
+    """ros2_controllers pid_controller/test/test_pid_controller.cpp, test_feedforward_mode_parameter (jazzy):
+    enable_feedforward is read at configure (after a cleanup) and, once the controller runs, at the update after it is
+    set."""
+    h = _harness(_params(set_current_state_as_first_setpoint=True))
+    c = h.controller
+    assert c.feedforward_mode_enabled is False
+    assert h.configure() is State.INACTIVE
+    assert c.feedforward_mode_enabled is False
+
+    assert c.cleanup() is State.UNCONFIGURED
+    c.get_node().set_parameters({"enable_feedforward": True})
+    assert h.configure() is State.INACTIVE
+    assert c.feedforward_mode_enabled is True
+    assert c.cleanup() is State.UNCONFIGURED
+    c.get_node().set_parameters({"enable_feedforward": False})
+    assert c.feedforward_mode_enabled is True  # not read before configure
+    assert h.configure() is State.INACTIVE
+    assert c.feedforward_mode_enabled is False
+
+    assert h.activate() is State.ACTIVE
+    assert c.feedforward_mode_enabled is False
+    h.update()
+    assert c.feedforward_mode_enabled is False
+    c.get_node().set_parameters({"enable_feedforward": True})
+    h.update()
+    assert c.feedforward_mode_enabled is True
+    c.get_node().set_parameters({"enable_feedforward": False})
+    h.update()
+    assert c.feedforward_mode_enabled is False
+
+
+def test_a_mode_set_by_the_service_survives_reconfigure_with_unchanged_parameters():
+    """Jazzy's update_parameters (pid_controller.cpp) writes the mode only from parameters it has not read: after the
+    service turns it on, cleanup and configure keep it on; setting any parameter makes enable_feedforward count again."""
+    h = _active()
+    c = h.controller
+    h.bus.call_service(f"/{NAME}/set_feedforward_control", SetBoolRequest(data=True))
+    assert c.deactivate() is State.INACTIVE and c.cleanup() is State.UNCONFIGURED
+    assert h.configure() is State.INACTIVE
+    assert c.feedforward_mode_enabled is True
+    c.get_node().set_parameters({"gains.joint1.p": 2.0})
+    h.activate()
+    h.update()
+    assert c.feedforward_mode_enabled is False
+
+
+def test_update_logic_feedforward_on_with_zero_feedforward_gain():
+    """ros2_controllers pid_controller/test/test_pid_controller.cpp,
+    test_update_logic_feedforward_on_with_zero_feedforward_gain (jazzy): feed-forward on with gain 0 adds nothing:
+    ref 101.101, state 1.1, p=1 i=2 d=3 (antiwindup_strategy none), dt 0.01 -> 30100.301."""
+    gains = {"joint1": {"p": 1.0, "i": 2.0, "d": 3.0, "antiwindup_strategy": "none"}}
+    h = _active(_params(set_current_state_as_first_setpoint=True, gains=gains))
+    h.controller.get_node().set_parameters({"enable_feedforward": True})
+    h.publish("~/reference", MultiDOFCommand(["joint1"], [101.101], [math.nan]))
+    h.update()
+    assert h.controller.feedforward_mode_enabled is True
+    assert round(h.value("joint1/acceleration"), 5) == pytest.approx(30100.301, abs=1e-5)
+
+
+def test_update_logic_feedforward_off():
+    """ros2_controllers pid_controller/test/test_pid_controller.cpp, test_update_logic_feedforward_off (jazzy): the same
+    numbers with the mode off (the default) -> 30100.301."""
+    gains = {"joint1": {"p": 1.0, "i": 2.0, "d": 3.0, "antiwindup_strategy": "none"}}
+    h = _active(_params(set_current_state_as_first_setpoint=True, gains=gains))
+    h.publish("~/reference", MultiDOFCommand(["joint1"], [101.101], [math.nan]))
+    h.update()
+    assert h.controller.feedforward_mode_enabled is False
+    assert round(h.value("joint1/acceleration"), 5) == pytest.approx(30100.301, abs=1e-5)
+
+
+def test_gains_set_while_running_take_effect_at_the_next_update():
+    """Jazzy's update_parameters re-reads feedforward_gain and control_toolbox's PidROS takes new gains at once: with
+    the mode on, p 0.5 -> 1.0 and feedforward_gain 1.0 -> 2.0 give 1.0 * 3.9 + 2.0 * 5.0 = 13.9."""
+    h = _active(_params(enable_feedforward=True, gains={"joint1": {"p": 0.5, "feedforward_gain": 1.0}}), chained=True)
+    _set_ref(h, "joint1/position", 5.0)
+    h.update()
+    assert h.value("joint1/acceleration") == pytest.approx(6.95)
+    h.controller.get_node().set_parameters({"gains.joint1.p": 1.0, "gains.joint1.feedforward_gain": 2.0})
+    h.update()
+    assert h.value("joint1/acceleration") == pytest.approx(13.9)
+
+
+def test_invalid_gains_set_while_running_are_logged_and_the_old_ones_stay(caplog):
+    """control_toolbox keeps the running gains when new ones are invalid (u_clamp_min above u_clamp_max)."""
+    h = _active(_params(gains={"joint1": {"p": 0.5}}), chained=True)
+    _set_ref(h, "joint1/position", 5.0)
+    h.controller.get_node().set_parameters({"gains.joint1.u_clamp_min": 1.0, "gains.joint1.u_clamp_max": -1.0})
+    with caplog.at_level(logging.ERROR):
+        h.update()
+    assert "u_clamp" in caplog.text
+    assert h.value("joint1/acceleration") == pytest.approx(1.95)
+
+
+def test_a_parameter_of_the_wrong_type_set_while_running_changes_nothing(caplog):
+    """A value the declarations refuse is logged (naming the parameter) and the running parameters stay."""
+    h = _active(_params(enable_feedforward=True, gains={"joint1": {"p": 0.5, "feedforward_gain": 1.0}}), chained=True)
+    h.controller.get_node().set_parameters({"enable_feedforward": "maybe"})
+    _set_ref(h, "joint1/position", 5.0)
+    with caplog.at_level(logging.ERROR):
+        h.update()
+    assert "enable_feedforward" in caplog.text
+    assert h.controller.feedforward_mode_enabled is True
+    assert h.value("joint1/acceleration") == pytest.approx(6.95)
+
+
+def test_interface_parameters_set_while_running_wait_for_configure(caplog):
+    """dof_names and the interfaces are read-only in Jazzy's declarations: changed while running, they are not taken
+    until the next configure (a warning says so) and the controller keeps commanding the same interfaces."""
+    h = _active(_params(gains={"joint1": {"p": 0.5}}), chained=True)
+    h.controller.get_node().set_parameters({"command_interface": "velocity"})
+    _set_ref(h, "joint1/position", 5.0)
+    with caplog.at_level(logging.WARNING):
+        h.update()
+    assert "command_interface" in caplog.text and "next configure" in caplog.text
+    assert h.controller.command_interface_configuration().names == ["joint1/acceleration"]
+    assert h.value("joint1/acceleration") == pytest.approx(1.95)
+
+
+def test_dof_names_set_while_running_keep_the_configured_dofs_and_gains(caplog):
+    """A new dof_names while running: the configured DOF keeps its PID and gains until the next configure."""
+    h = _active(_params(gains={"joint1": {"p": 0.5}}), chained=True)
+    h.controller.get_node().set_parameters({"dof_names": ["joint2"], "gains.joint2.p": 3.0})
+    _set_ref(h, "joint1/position", 5.0)
+    with caplog.at_level(logging.WARNING):
+        assert h.update() is ReturnType.OK
+    assert "dof_names" in caplog.text
+    assert h.value("joint1/acceleration") == pytest.approx(1.95)
+
+
+def test_chained_feedforward_with_gain_dual_interface():
+    """ros2_controllers pid_controller/test/test_pid_controller_dual_interface.cpp,
+    test_chained_feedforward_with_gain_dual_interface (jazzy): with two interfaces feed-forward acts on the reference's
+    derivative: joint1 6.0 + 0.5*5 + 0.4*1 = 8.90, joint2 7.0 + 0.5*5 + 0.4*1 = 9.90."""
+    gains = {j: {"p": 0.5, "i": 0.3, "d": 0.4, "feedforward_gain": 1.0, "antiwindup_strategy": "none"}
+             for j in ("joint1", "joint2")}
+    params = _params(dof_names=["joint1", "joint2"], command_interface="velocity",
+                     reference_and_state_interfaces=["position", "velocity"], enable_feedforward=True,
+                     set_current_state_as_first_setpoint=True, gains=gains)
+    states = {"joint1/position": 10.0, "joint2/position": 11.0, "joint1/velocity": 5.0, "joint2/velocity": 6.0}
+    h = _active(params, chained=True, states=states, commands={"joint1/velocity": 0.0, "joint2/velocity": 0.0})
+    assert h.controller.feedforward_mode_enabled is True
+    for name, value in (("joint1/position", 15.0), ("joint2/position", 16.0), ("joint1/velocity", 6.0),
+                        ("joint2/velocity", 7.0)):
+        _set_ref(h, name, value)
+    h.update()
+    assert h.value("joint1/velocity") == pytest.approx(8.90)
+    assert h.value("joint2/velocity") == pytest.approx(9.90)
 
 
 def test_dual_interface_uses_error_dot_and_feedforward_on_derivative():

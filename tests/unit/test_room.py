@@ -33,7 +33,8 @@ from typing import Any
 import pytest
 from browser_driver import CHROMIUM, Browser, unavailable
 
-from rrbot_workshop.classroom.class_report import build_report, write_report
+from rrbot_workshop.classroom.class_report import build_report
+from rrbot_workshop.classroom.class_report_page import write_report
 from rrbot_workshop.classroom.hub import server_state
 from rrbot_workshop.classroom.room import SERVICE, VERSION_WARNING, LearnerRun, Room, portable_python
 from rrbot_workshop.classroom.task_status import PASSED, WORKING

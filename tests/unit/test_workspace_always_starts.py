@@ -362,7 +362,8 @@ def _one_line_each(err: str) -> list[str]:
 def test_singleuser_makes_the_workspace_and_starts_the_server_there(home: Home, capsys: pytest.CaptureFixture[str]) -> None:
     assert cli.main(["singleuser", "--port=9999"]) == 0
     (command,) = home.started
-    assert command[0] == "jupyterhub-singleuser" and f"--ServerApp.root_dir={home / 'rrbot_workshop'}" in command
+    assert command[:3] == [sys.executable, "-m", "rrbot_workshop.classroom.server"]
+    assert f"--ServerApp.root_dir={home / 'rrbot_workshop'}" in command
     assert command[-1] == "--port=9999"
     assert "workspace made" in _one_line_each(capsys.readouterr().err)[0]
 
@@ -412,24 +413,22 @@ def test_singleuser_without_jupyterhub_is_one_line(home: Home, capsys: pytest.Ca
 
 def test_singleuser_as_the_spawner_runs_it_logs_one_line_each_and_execs_the_server(
         installed: Path, tmp_path: Path) -> None:
-    """A real process: the spawner's command with a stand-in ``jupyterhub-singleuser`` first on the PATH."""
-    home, bin_dir = tmp_path / "home" / "ana", tmp_path / "bin"
+    """A real process: the spawner's command, with the hub's real single-user server asked for its version (so it
+    exits at once, having been started with the learner's workspace set up first)."""
+    import jupyterhub
+
+    home = tmp_path / "home" / "ana"
     home.mkdir(parents=True)
-    bin_dir.mkdir()
-    server = bin_dir / "jupyterhub-singleuser"
-    server.write_text(f"#!{sys.executable}\nimport os, sys\nprint('SERVER', os.getpid(), *sys.argv[1:])\n")
-    server.chmod(0o755)
-    env = {**os.environ, "HOME": str(home), "PATH": f"{bin_dir}{os.pathsep}{os.environ['PATH']}",
-           tracks.ROOT_ENV: str(installed)}
+    env = {**os.environ, "HOME": str(home), tracks.ROOT_ENV: str(installed)}
     init_workspace(home / "rrbot_workshop", installed)
     _truncated(home / "rrbot_workshop" / ARCHIVE)
-    proc = subprocess.run([sys.executable, "-m", "rrbot_workshop.cli", "singleuser", "--port=8888"], env=env,
+    proc = subprocess.run([sys.executable, "-m", "rrbot_workshop.cli", "singleuser", "--version"], env=env,
                           capture_output=True, text=True, timeout=300)
     assert proc.returncode == 0, proc.stderr
-    _one_line_each(proc.stderr)
-    (printed,) = proc.stdout.splitlines()
-    assert printed.startswith("SERVER ") and printed.endswith("--port=8888")
-    assert str(home / "rrbot_workshop") in printed
+    lines = _one_line_each(proc.stderr)
+    assert sum(ARCHIVE in line for line in lines) == 1
+    assert proc.stdout.split() == [jupyterhub.__version__]
+    assert (home / "rrbot_workshop" / ARCHIVE).stat().st_size > 0
 
 
 # ------------------------------------------------------------------------------------------ the course's own copies

@@ -59,6 +59,12 @@ def upstream_folder() -> Path | None:
     return next((c.resolve() for c in candidates if c.is_dir()), None)
 
 
+def shared_folder() -> Path | None:
+    """The ``shared`` folder that holds ``upstream/`` (and ``conformance/``), found as :func:`upstream_folder` is."""
+    folder = upstream_folder()
+    return folder.parent if folder is not None else None
+
+
 def upstream(name: str) -> Path:
     """The upstream file or folder ``name`` (one of :data:`DEMOS`, :data:`TLJH`, :data:`Z2JH`).
 

@@ -10,7 +10,6 @@ import json
 import logging
 import os
 import re
-import subprocess
 import sys
 import tempfile
 from pathlib import Path
@@ -19,6 +18,7 @@ from typing import Any
 from rrbot_workshop.course import tracks
 from rrbot_workshop.course.grading import attempts, live_view
 from rrbot_workshop.course.grading.hints import CheckEntry, plan_hints
+from rrbot_workshop.course.grading.pytest_process import run_pytest
 from rrbot_workshop.course.grading.rubric import CheckResult, Rubric
 from rrbot_workshop.exceptions import CourseError, GradingError
 
@@ -122,7 +122,7 @@ def grade(
     verbose: bool = False,
     record: bool = True,
 ) -> Rubric:
-    """Run a task's grader in a subprocess and return its rubric.
+    """Run a task's grader in a fresh process (forked from one that has imported what graders use) and return its rubric.
 
     Args:
         task: Task number.
@@ -164,8 +164,8 @@ def grade(
 
     with tempfile.TemporaryDirectory(prefix="rrbot_workshop_grade_") as tmp:
         out = Path(tmp) / "rubric.json"
-        cmd = [
-            sys.executable, "-m", "pytest", str(path),
+        args = [
+            str(path),
             "-p", "rrbot_workshop.course.grading.plugin",
             "-p", "no:cacheprovider",
             "-o", "addopts=",
@@ -174,16 +174,12 @@ def grade(
             "--rubric-json", str(out),
             "--check-timeout", f"{check_timeout:g}",
         ]
+        # the caller's own test folders (a test run that grades) are not the grader's
+        tests = (root / "tests").resolve()
+        drop = [p for p in sys.path if p and Path(p).resolve().is_relative_to(tests)]
+        returncode, output = run_pytest(args, root, env, total_timeout, drop_paths=drop)
         stopped = "the check did not run: the grader stopped before it"
-        try:
-            proc = subprocess.run(
-                cmd, cwd=root, env=env, capture_output=True, text=True, timeout=total_timeout, check=False
-            )
-            output = proc.stdout + proc.stderr
-            returncode: int | None = proc.returncode
-        except subprocess.TimeoutExpired as exc:
-            output = _text(exc.stdout) + _text(exc.stderr)
-            returncode = None
+        if returncode is None:
             stopped = f"the check did not run: the grader was stopped after {total_timeout:g} s"
         if verbose:
             logger.info("grader output (exit status %s):\n%s", returncode, output)
@@ -208,12 +204,6 @@ def grade(
                                   reasons=reasons, hints=shown)
         live_view.post_attempt(task, attempt)  # on a hub: to the instructor's live view, in the background
     return rubric
-
-
-def _text(value: str | bytes | None) -> str:
-    if value is None:
-        return ""
-    return value.decode(errors="replace") if isinstance(value, bytes) else value
 
 
 def check(task: int, *, track: str | None = None, check_timeout: float = DEFAULT_CHECK_TIMEOUT) -> Rubric:

@@ -21,13 +21,10 @@ import logging
 import os
 from dataclasses import dataclass, field
 from pathlib import Path, PurePosixPath
-from typing import TYPE_CHECKING
 
 from rrbot_workshop.description.packages.install_rules import InstallRule
+from rrbot_workshop.description.packages.package import Package
 from rrbot_workshop.exceptions import DescriptionError
-
-if TYPE_CHECKING:
-    from rrbot_workshop.description.packages.crawl import Package
 
 __all__ = ["InstallTree", "install_tree", "MAX_ENTRIES", "MAX_DEPTH"]
 

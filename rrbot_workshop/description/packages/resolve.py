@@ -12,8 +12,9 @@ from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
-from rrbot_workshop.description.packages.crawl import Package, find_package, known_package, package_index
+from rrbot_workshop.description.packages.crawl import find_package, known_package, package_index
 from rrbot_workshop.description.packages.installed import InstallTree, install_tree
+from rrbot_workshop.description.packages.package import Package
 from rrbot_workshop.description.packages.view import build_view
 from rrbot_workshop.exceptions import DescriptionError
 

@@ -2,7 +2,8 @@
 
 :mod:`~rrbot_workshop.tools.lint.linter` runs the checks; :mod:`~rrbot_workshop.tools.lint.layout` reads the YAML's
 node layout, :mod:`~rrbot_workshop.tools.lint.parameters` checks parameters, :mod:`~rrbot_workshop.tools.lint.classes`
-configures controller classes for their interfaces and :mod:`~rrbot_workshop.tools.lint.urdf` checks descriptions.
+configures controller classes for their interfaces, :mod:`~rrbot_workshop.tools.lint.urdf` checks descriptions and
+:mod:`~rrbot_workshop.tools.lint.descriptions` says which description each controller manager is checked against.
 """
 
 from rrbot_workshop.tools.lint.linter import (

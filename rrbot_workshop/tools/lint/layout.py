@@ -28,7 +28,7 @@ import yaml
 from rrbot_workshop.middleware.text_files import SAFE_LOADER, paused_gc
 
 __all__ = ["KeyLines", "Section", "Controller", "Manager", "Layout", "substitute", "key_matches", "read_layout",
-           "MANAGER_ENTRY_KEYS"]
+           "normal_namespace", "MANAGER_ENTRY_KEYS"]
 
 #: ``$(var name)`` as ros2 launch writes a launch configuration in a substituted file.
 _VAR = re.compile(r"\$\(\s*var\s+([A-Za-z_][A-Za-z0-9_]*)\s*\)")
@@ -252,19 +252,34 @@ def _is_manager_name(name: str) -> bool:
     return name.endswith("controller_manager")
 
 
-def read_layout(sections: list[Section]) -> Layout:
+def normal_namespace(namespace: str) -> str:
+    """``rrbot_1``, ``/rrbot_1/`` -> ``/rrbot_1``; the root is ``/`` (as a launch file's ``namespace=`` is read)."""
+    return "/" + namespace.strip().strip("/")
+
+
+def read_layout(sections: list[Section], namespaces: list[str] | None = None) -> Layout:
     """The controller managers (and their controllers) that ``sections`` configure.
 
     A manager is any node named ``*controller_manager`` in a key, in each namespace the file names (or the root
     when it names none); where no key names a manager but controllers carry a ``type``, the default
     ``controller_manager`` of that namespace is meant. A controller belongs to a manager when its type is given
     in the manager's ``<name>.type`` or in a section that applies to ``<namespace>/<name>``.
+
+    Args:
+        sections: The file's sections (:func:`read_sections`).
+        namespaces: The namespaces the managers run in, as a launch file gives ``ros2_control_node`` one; None: every
+            namespace the file names. With namespaces given, a section for a node of another namespace is left out
+            of :attr:`Layout.unclaimed` (another launch's node takes it).
     """
-    namespaces: list[str] = []
-    for section in sections:
-        ns = section.namespace
-        if ns is not None and not section.wildcard_name and ns not in namespaces:
-            namespaces.append(ns)
+    given = None if namespaces is None else [normal_namespace(ns) for ns in namespaces]
+    if given is not None:
+        namespaces = list(dict.fromkeys(given))
+    else:
+        namespaces = []
+        for section in sections:
+            ns = section.namespace
+            if ns is not None and not section.wildcard_name and ns not in namespaces:
+                namespaces.append(ns)
     if not namespaces:
         namespaces = ["/"]
     manager_names = [s.name for s in sections if _is_manager_name(s.name)] or ["controller_manager"]
@@ -305,7 +320,8 @@ def read_layout(sections: list[Section]) -> Layout:
             if named or manager.controllers:
                 managers.append(manager)
                 claimed.update(id(s) for s in manager.sections if not s.wildcard_name)
-    unclaimed = [s for s in sections if id(s) not in claimed and not s.wildcard_name]
+    unclaimed = [s for s in sections if id(s) not in claimed and not s.wildcard_name
+                 and (given is None or s.namespace is None or s.namespace in namespaces)]
     return Layout(sections, managers, unclaimed)
 
 

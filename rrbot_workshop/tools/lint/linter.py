@@ -17,7 +17,9 @@ all at once instead of one at a time at bringup:
   as notes (:mod:`rrbot_workshop.tools.lint.parameters`);
 * with a description: every interface a controller claims or reads exists in the ``<ros2_control>`` tags or is
   exported by a chainable controller of the same manager (reference and state interfaces), and the description's
-  ``<hardware>`` blocks are sound (:mod:`rrbot_workshop.tools.lint.urdf`).
+  ``<hardware>`` blocks are sound (:mod:`rrbot_workshop.tools.lint.urdf`). Each manager is checked against its own
+  description where the launch file gives each its own robot (:mod:`rrbot_workshop.tools.lint.descriptions`), and
+  with ``namespace`` only the manager of that namespace is checked.
 
 :func:`lint_controllers` returns :class:`Finding` records; the CLI prints them as ``FILE:LINE: level: message``.
 """
@@ -48,12 +50,14 @@ from rrbot_workshop.tools.lint.classes import (
     reason,
     unfinished_exercise,
 )
+from rrbot_workshop.tools.lint.descriptions import EVERY_MANAGER, DescriptionSpec, ManagerDescriptions
 from rrbot_workshop.tools.lint.layout import (
     MANAGER_ENTRY_KEYS,
     Controller,
     KeyLines,
     Manager,
     Section,
+    normal_namespace,
     read_layout,
     read_sections,
     substitute,
@@ -61,6 +65,7 @@ from rrbot_workshop.tools.lint.layout import (
 )
 from rrbot_workshop.tools.lint.parameters import (
     CONTROLLER_MANAGER_PARAMETERS,
+    behaviour_findings,
     check_parameters,
     closest,
     manager_findings,
@@ -129,25 +134,34 @@ class Finding:
         return f"{self.source}{line}: {self.level}: {self.where}: {self.message}"
 
 
-def lint_controllers(path: str | Path, description: str | Path | None = None,
+def lint_controllers(path: str | Path, description: DescriptionSpec | Mapping[str, DescriptionSpec] | None = None,
                      xacro_args: Mapping[str, Any] | None = None, launch_args: Mapping[str, str] | None = None,
-                     package_path: Sequence[str | Path] = ()) -> list[Finding]:
+                     package_path: Sequence[str | Path] = (), namespace: str | None = None) -> list[Finding]:
     """Check a controllers YAML, and, with ``description``, the interfaces its controllers use.
 
     Args:
         path: The controllers YAML file.
-        description: A URDF or xacro file whose ``<ros2_control>`` tags declare the interfaces, or None.
-        xacro_args: Arguments for the xacro file.
+        description: A URDF or xacro file whose ``<ros2_control>`` tags declare the interfaces (for every controller
+            manager of the file), or a mapping from a namespace (``"/rrbot_1"``) or a manager's full name
+            (``"/rrbot_1/controller_manager"``) to the file of the managers there, as a launch file gives each
+            ``ros2_control_node`` its own ``robot_description``. A file may come with its own xacro arguments:
+            ``("rrbot.urdf.xacro", {"prefix": "rrbot_1_"})``. None: interfaces are not checked.
+        xacro_args: Arguments for every xacro file.
         launch_args: Values of the launch arguments the YAML uses as ``$(var name)`` (as ``ros2 launch``
             substitutes them in a parameter file).
         package_path: Folders searched for the packages the description names (``$(find pkg)``,
             ``package://``).
+        namespace: The namespace the controller manager runs in (``"/rrbot_1"``), as a launch file gives it to
+            ``ros2_control_node``: only that manager is checked, with the sections that apply to it (``/**/...``,
+            ``/rrbot_1/...``); sections for other namespaces are left to their own runs. None: every manager the
+            file names.
 
     Returns:
         Every finding (errors, warnings, notes), in file order.
     """
     with quiet():
-        return _Linter(str(path), launch_args or {}).run(path, description, xacro_args or {}, package_path)
+        return _Linter(str(path), launch_args or {}).run(
+            path, ManagerDescriptions(description, xacro_args or {}, package_path), namespace)
 
 
 class _Linter:
@@ -248,20 +262,26 @@ class _Linter:
         return report
 
     # ----------------------------------------------------------------- checks
-    def run(self, path: str | Path, description: str | Path | None, xacro_args: Mapping[str, Any],
-            package_path: Sequence[str | Path]) -> list[Finding]:
+    def run(self, path: str | Path, descriptions: ManagerDescriptions, namespace: str | None) -> list[Finding]:
         sections = self.read(path)
         if sections is not None:
-            layout = read_layout(sections)
+            layout = read_layout(sections, None if namespace is None else [namespace])
             self.single = len(layout.managers) == 1 and layout.managers[0].namespace == "/"
-            urdf: str | None = None
-            infos: list[Any] = []
-            if description is not None:
-                urdf, infos, problems = parse_description(description, xacro_args, package_path)
-                self.findings.extend(Finding(level, str(description), 0, where, message)
-                                     for level, where, message in problems)
+            if namespace is not None and not layout.managers:
+                named = sorted({s.namespace for s in sections if s.namespace is not None and not s.wildcard_name})
+                self.add("warning", 0, f"namespace {normal_namespace(namespace)}",
+                         "no section of this file applies to a controller manager in this namespace, so there is "
+                         f"nothing to check (the file names {', '.join(named) or 'no namespace'})")
+            for key in descriptions.unused(layout.managers):
+                valid = sorted({m.namespace for m in layout.managers} | {m.fqn for m in layout.managers})
+                self.add("error", 0, f"description for '{key}'",
+                         f"no controller manager of this file runs in or is named '{key}', so this description "
+                         f"checks nothing (valid: {', '.join(valid) or 'none: the file configures no manager'})")
             for manager in layout.managers:
-                self.check_manager(manager, urdf, infos, Path(description).name if description else "")
+                urdf, infos, name = descriptions.for_manager(manager)
+                self.check_manager(manager, urdf, infos, name)
+            if not layout.managers and EVERY_MANAGER in descriptions.keys():
+                descriptions.parse(EVERY_MANAGER)  # nothing to check it against: its own problems still count
             if layout.managers:
                 names = {n for m in layout.managers for n in m.controllers}
                 manager_key = "/".join(layout.managers[0].sections[0].path) if layout.managers[0].sections \
@@ -273,6 +293,8 @@ class _Linter:
                              f"parameters for '{section.key}', but no controller manager of this file has a controller "
                              f"of that name with a 'type' (in '{manager_key}' or in the section itself)"
                              f"{closest(section.name, names)}")
+        self.findings.extend(Finding(level, source, 0, where, message)
+                             for source, level, where, message in descriptions.problems)
         unique = list(dict.fromkeys((f.level, f.source, f.line, f.message, f.where) for f in self.findings))
         seen: set[tuple[str, str, int, str]] = set()
         out = []
@@ -373,6 +395,7 @@ class _Linter:
         schema_text = getattr(cls, "PARAMETERS", None)
         if schema_text:
             check_parameters(controller.name, ctype, ParameterSchema(schema_text), values, report, shared, skip)
+        behaviour_findings(ctype, values, report, skip)
         failed = sum(f.level == "error" for f in self.findings) > errors_before
         learner = learner_file(cls)
         if (urdf is None and learner is None) or skip:

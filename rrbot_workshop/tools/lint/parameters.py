@@ -7,7 +7,9 @@
 * the parameters every Jazzy controller has (``update_rate``, ``is_async``, ``type``, ...) and the controller's
   ``update_rate`` against its manager's (:func:`rate_findings`);
 * keys removed between Humble and Jazzy (ignored there: warnings) and keys Jazzy still declares but calls
-  deprecated (notes).
+  deprecated (notes);
+* values that load but do nothing in Jazzy: a ``pid_controller`` gain ``feedforward_gain`` while feed-forward
+  mode is off (:func:`behaviour_findings`).
 
 Both checks report through ``report(level, where, message)``; :mod:`rrbot_workshop.tools.lint` turns that into
 findings with file lines.
@@ -23,8 +25,8 @@ from typing import Any
 from rrbot_workshop.exceptions import ParameterError
 from rrbot_workshop.middleware.params import ParameterSchema, ParamListener, flatten
 
-__all__ = ["CONTROLLER_MANAGER_PARAMETERS", "COMMON_CONTROLLER_PARAMETERS", "DEPRECATED", "check_parameters",
-           "manager_findings", "rate_findings", "closest"]
+__all__ = ["CONTROLLER_MANAGER_PARAMETERS", "COMMON_CONTROLLER_PARAMETERS", "DEPRECATED", "behaviour_findings",
+           "check_parameters", "manager_findings", "rate_findings", "closest"]
 
 
 #: controller_manager parameters of Jazzy (controller_manager_parameters.yaml, and those ros2_control_node reads)
@@ -219,6 +221,35 @@ def rate_findings(values: Mapping[str, Any], manager_rate: Any, report: Any) -> 
         report("warning", "update_rate",
                f"'update_rate' {rate} Hz is not achievable with the controller manager's {manager_rate} Hz (it is "
                f"not a divisor): Jazzy runs the controller at {achievable} Hz")
+
+
+def behaviour_findings(ctype: str, values: Mapping[str, Any], report: Any, skip: Iterable[str] = ()) -> None:
+    """Values Jazzy accepts that do not do what they seem to (warnings).
+
+    ``pid_controller/PidController`` applies ``gains.<dof>.feedforward_gain`` only in feed-forward mode, which is off
+    unless ``enable_feedforward`` is true or ``~/set_feedforward_control`` switches it on (pid_controller.cpp,
+    test_update_chained_feedforward_off_with_gain): a non-zero gain with the mode off is said once per DOF.
+
+    Args:
+        ctype: The controller's type string.
+        values: Its parameters (nested), as the node would receive them.
+        report: ``report(level, key, message)``.
+        skip: Keys whose value is not known (an unsubstituted launch argument): nothing is said about them.
+    """
+    if ctype != "pid_controller/PidController":
+        return
+    flat = flatten(values)
+    skipped = set(skip)
+    if "enable_feedforward" in skipped or flat.get("enable_feedforward") is True:
+        return
+    for key, gain in flat.items():
+        if key in skipped or not fnmatch.fnmatchcase(key, "gains.*.feedforward_gain"):
+            continue
+        if isinstance(gain, (int, float)) and not isinstance(gain, bool) and gain != 0:
+            report("warning", key,
+                   f"'{key}' is {gain}, but feed-forward mode is off ('enable_feedforward' is false, Jazzy's "
+                   "default): Jazzy leaves the gain out of the command until 'enable_feedforward: true' is set or "
+                   "~/set_feedforward_control switches the mode on")
 
 
 def _nest(flat: Mapping[str, Any]) -> dict[str, Any]:
