@@ -474,7 +474,16 @@ def test_configure_again_after_cleanup(learner: ModuleType) -> None:
     _expect(rig, [0.0, 0.0], "configured again after a cleanup, an update before any message")
     _jog(rig, ["shoulder", "elbow"], [2.0, 1.0])
     rig.update()
-    _expect(rig, [2.0, 1.0], "slow mode switched on, then cleanup and configure again (the controller starts in fast "
+    expected = [2.0, 1.0]
+    deliveries = rig.h.bus.subscription_count(f"/{NAME}/reference")
+    if deliveries > 1:  # configure subscribed again: each message arrives that many times. What the learner's
+        # controller makes of a message received that often (newer_message_replaces_pending judges it) is taken as given
+        fresh = _rig0(learner, joints=["shoulder", "elbow"]).start()
+        for _ in range(deliveries):
+            _jog(fresh, ["shoulder", "elbow"], [2.0, 1.0])
+        fresh.update()
+        expected = fresh.commands()
+    _expect(rig, expected, "slow mode switched on, then cleanup and configure again (the controller starts in fast "
             "mode), a JointJog {shoulder: 2.0, elbow: 1.0}")
 
 
@@ -565,6 +574,7 @@ def test_wrong_joint_count_refused(learner: ModuleType) -> None:
     _try_refused(_rig0(learner).start(), [
         (["joint1"], [5.0]), (["joint1", "joint2", "joint3"], [1.0, 1.0, 1.0]), (["joint1", "joint2"], [1.0]),
         (["joint1", "joint2"], [1.0, 1.0, 1.0]), (["joint2"], [1.0, 1.0]), ([], []),
+        (["joint1", "joint2", "joint2"], [1.0, 1.0, 1.0]),
     ])
     _try_refused(_rig0(learner, joints=["shoulder", "elbow", "wrist"]).start(), [
         (["shoulder", "elbow"], [0.5, 0.5]), (["wrist"], [0.5]), (["shoulder", "elbow", "wrist"], [0.5, 0.5]),

@@ -10,10 +10,11 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
-from grader_causes import assert_one_cause
-from grader_variants import Variant, assert_full_marks, assert_loses_points, grade_variants
+from grader_causes import assert_one_cause, check_specs, unknown_after
+from grader_variants import Variant, assert_full_marks, assert_loses_points, grade_variants, reason_problems
 
 from rrbot_workshop.course import tracks
+from rrbot_workshop.course.grading import grade
 
 HAS_SOLUTIONS = (tracks.course_root() / "solutions").is_dir()
 pytestmark = pytest.mark.skipif(not HAS_SOLUTIONS, reason="this copy of the course has no solutions/")
@@ -110,7 +111,8 @@ WRONG = [
             says={"unknown_or_repeated_joint_refused": "joint1"}),
     Variant("names_compared_as_sets", {PY: [(NAMES, "        if set(msg.joint_names) != set(self.joints):\n"),
                                              (COUNT, "        if len(msg.displacements) != len(msg.joint_names):\n")]},
-            fails={"wrong_joint_count_refused", "unknown_or_repeated_joint_refused", SCENARIOS}),
+            fails={"wrong_joint_count_refused", SCENARIOS}, only=True,
+            says={"wrong_joint_count_refused": "['joint1', 'joint2', 'joint2']"}),
     Variant("unknown_joint_raises_in_the_callback", {PY: [(NAMES, "        if False:\n")]},
             fails={"unknown_or_repeated_joint_refused", SCENARIOS}, names_file=PY, only=True,
             says={"unknown_or_repeated_joint_refused": "KeyError"}),
@@ -354,7 +356,11 @@ def test_wrong_solution_loses_points(rubrics: dict, variant: Variant) -> None:
 @pytest.mark.parametrize("variant", [v for v in WRONG if v.only], ids=str)
 def test_one_slip_shows_hints_at_one_check(rubrics: dict, variant: Variant) -> None:
     """The checks a single slip fails build on one of them (graded(after=...)): only that one is a cause."""
-    assert_one_cause(rubrics[variant.name], variant.name)
+    assert_one_cause(rubrics[variant.name], check_specs(8), variant.name)
+
+
+def test_after_names_checks_of_the_grader() -> None:
+    assert not unknown_after(check_specs(8))
 
 
 @pytest.mark.parametrize("variant", RIGHT, ids=str)
@@ -368,3 +374,15 @@ def test_enough_variants() -> None:
     assert {"type_in_the_controllers_own_section", "flow_style_type_in_own_section_joints_in_another_order"} <= {
         v.name for v in RIGHT}
     assert sum(v.only for v in WRONG) >= 30
+
+
+def test_the_exercise_as_handed_out_gets_a_clear_reason() -> None:
+    """Untouched, the task scores 0; each check failing on its own names the learner's file (the TODO it stops at), the
+    others say which check they wait for, and only the first cause shows a hint."""
+    rubric = grade(8, track="exercises", record=False)
+    assert rubric.score == 0 < rubric.max_score, rubric.format()
+    assert not reason_problems(rubric), rubric.format()
+    for check in rubric.failed():
+        assert check.detail.startswith(("your displacement_controller.py", "your rrbot_controllers.yaml",
+                                        "fails because")), rubric.format()
+    assert [c.name for c in rubric.checks if c.hint] == ["validator_function"], rubric.format()
