@@ -30,7 +30,15 @@ def check_specs(task: int) -> Mapping[str, CheckSpec]:
     assert spec is not None and spec.loader is not None, path
     module = importlib.util.module_from_spec(spec)
     sys.modules[name] = module
-    spec.loader.exec_module(module)
+    folder = str(path.parent)  # the grader imports its helpers (description_compare, ...) from its own folder
+    added = folder not in sys.path
+    if added:
+        sys.path.insert(0, folder)
+    try:
+        spec.loader.exec_module(module)
+    finally:
+        if added:
+            sys.path.remove(folder)
     return {attr.removeprefix("test_"): check_spec(func) for attr, func in vars(module).items()
             if attr.startswith("test_") and callable(func)}
 
