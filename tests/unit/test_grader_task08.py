@@ -383,6 +383,6 @@ def test_the_exercise_as_handed_out_gets_a_clear_reason() -> None:
     assert rubric.score == 0 < rubric.max_score, rubric.format()
     assert not reason_problems(rubric), rubric.format()
     for check in rubric.failed():
-        assert check.detail.startswith(("your displacement_controller.py", "your rrbot_controllers.yaml",
+        assert check.reason.startswith(("your displacement_controller.py", "your rrbot_controllers.yaml",
                                         "fails because")), rubric.format()
     assert [c.name for c in rubric.checks if c.hint] == ["validator_function"], rubric.format()
