@@ -815,6 +815,29 @@ def test_state_time_step_is_the_period(learner: ModuleType) -> None:
             assert msg is not None, f"at {rate} Hz, nothing was published on ~/state after an update that moved"
             assert _close(float(msg.time_step), 1.0 / rate), (
                 f"at {rate} Hz, ~/state's time_step is {msg.time_step!r}; it should be the period, {1.0 / rate} s")
+    # a controller at 100 Hz in a 250 Hz loop: its period is not a whole number of the loop's (0.008 s, then 0.012 s)
+    cfg = _stand_in_yaml()
+    cfg.update_rate = 250
+    cfg.controller_parameters["displacement_controller"]["update_rate"] = 100
+    with rw.bringup("rrbot", cfg, spawn=[JSB, "displacement_controller"], name="task08_grader") as system:
+        seen: list[Any] = []
+        for _ in range(12):  # a displacement every cycle: an update that moves something publishes in any case
+            system.publish("/displacement_controller/reference",
+                           JointJog(joint_names=["joint1", "joint2"], displacements=[0.001, 0.001]))
+            now = system.spin_cycles(1)
+            msg = system.latest("/displacement_controller/state")
+            if msg is not None and (not seen or msg is not seen[-1][0]):
+                seen.append((msg, now))  # when it was published, by the system's clock (not the learner's stamp)
+        running = system.controller_manager.get_controller("displacement_controller").get_lifecycle_state()
+    periods = [(b, t_b - t_a) for (_, t_a), (b, t_b) in zip(seen, seen[1:], strict=False)]
+    if not periods and running is not State.ACTIVE:
+        return  # the manager stopped the controller after its first update: update_returns_ok judges why
+    assert periods, "with the loop at 250 Hz and the controller at 100 Hz, ~/state was published at most once in 12 cycles"
+    for msg, period in periods:
+        assert _close(float(msg.time_step), period), (
+            f"with the loop at 250 Hz and the controller at update_rate 100 (its period is not a whole number of the "
+            f"loop's: the manager updates it after {period:.3f} s here), ~/state's time_step is {msg.time_step!r}: "
+            "publish the period update() receives, not one worked out from a rate")
 
 
 @graded(points=1, after=_STARTED, hint=(

@@ -174,6 +174,9 @@ WRONG = [
     Variant("state_time_step_hard_coded_at_100_hz", {PY: [("time_step=period", "time_step=0.01")]},
             fails={"state_time_step_is_the_period", SCENARIOS, "moves_the_rrbot"}, only=True,
             says={"state_time_step_is_the_period": "time_step"}),
+    Variant("state_time_step_from_the_update_rate_parameter",
+            {PY: [("time_step=period", "time_step=1.0 / (self.get_node().get_parameter('update_rate', 0) or 1.0 / period)")]},
+            fails={"state_time_step_is_the_period"}, only=True, says={"state_time_step_is_the_period": "0.008 s"}),
     # ------------------------------------------------------------------ configure
     Variant("state_joints_ignored", {PY: [("for joint in self.state_joints])", "for joint in self.joints])")]},
             fails={"configure_and_claimed_interfaces", "command_is_state_plus_displacement", "state_published",
