@@ -192,14 +192,24 @@ def _known(plugin: str) -> bool:
 
 
 class _ErrorLines(logging.Handler):
-    """Keeps the error lines a component logs while it initialises: the reason its on_init failed."""
+    """Keeps the error lines a component logs while it initialises: the reason its on_init failed.
 
-    def __init__(self) -> None:
-        super().__init__(logging.ERROR)
+    Args:
+        shown_elsewhere: Whether another handler shows the component's records. When none does, Python would print
+            its warnings and errors on stderr (``logging.lastResort``); this handler, being one, does it instead.
+    """
+
+    def __init__(self, shown_elsewhere: bool) -> None:
+        super().__init__(logging.NOTSET)
         self.lines: list[str] = []
+        self._shown_elsewhere = shown_elsewhere
 
     def emit(self, record: logging.LogRecord) -> None:
-        self.lines.append(record.getMessage()[:300])
+        if record.levelno >= logging.ERROR:
+            self.lines.append(record.getMessage()[:300])
+        last = logging.lastResort
+        if not self._shown_elsewhere and last is not None and record.levelno >= last.level:
+            last.handle(record)
 
 
 def load_component(impl: Any, info: HardwareInfo, storage: InterfaceStorage, update_rate: int) -> ComponentEntry:
@@ -216,8 +226,8 @@ def load_component(impl: Any, info: HardwareInfo, storage: InterfaceStorage, upd
             or clash with another component's.
     """
     component = HardwareComponent(impl)
-    said = _ErrorLines()
     hardware_log = logging.getLogger("rrbot_workshop.hardware")
+    said = _ErrorLines(shown_elsewhere=hardware_log.hasHandlers())
     hardware_log.addHandler(said)
     try:
         state = component.initialize(info)
