@@ -102,14 +102,18 @@ def lab(tmp_path_factory: pytest.TempPathFactory) -> Iterator[tuple[str, Path]]:
             os.killpg(server.pid, signal.SIGKILL)
 
 
-def _page_once(url: str, profile: Path, ready: str, png: Path | None = None) -> str:
-    """The DOM of ``url`` once the page shows ``ready`` (text in the page), and a screenshot of it into ``png``."""
+def _page_once(url: str, profile: Path, ready: str, png: Path | None = None, listed: tuple[str, ...] = ()) -> str:
+    """The DOM of ``url`` once the page shows ``ready`` (text in the page) and the file browser lists ``listed`` (it
+    fills in on its own, after the document), and a screenshot of it into ``png``."""
     assert CHROMIUM is not None
     browser = Browser(CHROMIUM, profile)
     try:
         browser.viewport(1400, 900)
         browser.open(url)
         browser.wait_for(f"document.body && document.body.innerText.includes({ready!r})", what=f"{ready!r} on {url}")
+        for name in listed:
+            browser.wait_for(f"document.documentElement.outerHTML.includes({name!r})",
+                             what=f"{name!r} in the file browser of {url}")
         if png is not None:
             browser.frames(5)
             browser.screenshot(png)
@@ -131,7 +135,7 @@ def test_jupyterlab_opens_the_intro_and_shows_the_course_folders(lab: tuple[str,
     assert (clone / "my_notebooks" / "00_intro.ipynb").is_file(), "the start command made no learner copies"
     png = tmp_path / "lab.png"
     dom = _page_once(f"{url}/lab/tree/my_notebooks/00_intro.ipynb", tmp_path / "profile",
-                     "ros2_control in one picture", png)
+                     "ros2_control in one picture", png, listed=("05_simulation.ipynb", "14_fault_lab.ipynb"))
     assert "05_simulation.ipynb" in dom and "14_fault_lab.ipynb" in dom, "the file browser does not list the notebooks"
     assert png.is_file() and png.stat().st_size > 20_000, "the screenshot of JupyterLab is blank"
     _keep(png)
