@@ -79,8 +79,8 @@ def _given_environment(root: Path, python: Path) -> Path:
     if not python.is_file() or not stamp.is_file() or stamp.read_text().strip() != _stamp(root):
         raise SystemExit(f"${PYTHON_ENV} names {python}, which is not an environment set up from this course's "
                          "pyproject.toml (its .installed stamp differs); unset it to set up .venv here")
-    found = subprocess.run([str(python), "-c", "import rrbot_workshop; print(rrbot_workshop.__file__)"],
-                           env=course_env(root, dict(os.environ)), capture_output=True, text=True)
+    found = subprocess.run([str(python), "-c", "import rrbot_workshop; print(rrbot_workshop.__file__)"], cwd=root,
+                           env=course_env(root, dict(os.environ)), capture_output=True, text=True)  # as the runs
     if found.returncode != 0 or not Path(found.stdout.strip()).resolve().is_relative_to(root):
         raise SystemExit(f"${PYTHON_ENV}: {python} imports rrbot_workshop from {found.stdout.strip() or '?'}, not from "
                          f"{root}")

@@ -156,3 +156,9 @@ def test_a_given_environment_is_used_only_when_set_up_from_the_same_pyproject(tm
     (other / "pyproject.toml").write_bytes((ROOT / "pyproject.toml").read_bytes())
     with pytest.raises(SystemExit, match="imports rrbot_workshop from"):
         setup(other)
+    # run from another checkout's folder (CI tests a student copy from the repository's root): the course's own
+    # package is still the one found, not the package in the folder the command was started from
+    monkeypatch.chdir(other)
+    (other / "rrbot_workshop").mkdir()
+    (other / "rrbot_workshop" / "__init__.py").write_text("")
+    assert setup(ROOT) == python
