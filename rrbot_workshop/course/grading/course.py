@@ -364,7 +364,8 @@ def export_student_copy(dest: str | os.PathLike[str], *, withhold_references: bo
             path = target / rel
             path.parent.mkdir(parents=True, exist_ok=True)
             path.write_bytes(data)
-            if rel in ("workshop", "workshop.py", ".ci/run"):
+            source = root / rel  # executable as in the checkout (git keeps the mode): scripts, binder/start
+            if rel in ("workshop", "workshop.py", ".ci/run") or (source.is_file() and source.stat().st_mode & 0o111):
                 path.chmod(0o755)
     if withhold_references:
         write_withheld_copy(target)
