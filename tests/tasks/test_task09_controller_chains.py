@@ -389,12 +389,18 @@ def _type_problem(path: Path, declared: Mapping[str, Declared], name: str) -> st
     return f"{where}: '{name}' has the type {entry.type!r}, expected '{TYPES[name]}'"
 
 
+@functools.cache
+def _lint_errors(controllers_file: Path) -> list[Any]:
+    """What ``rrbot-workshop lint`` finds Jazzy would refuse (once per grading: the file does not change meanwhile)."""
+    return [f for f in lint_controllers(controllers_file) if f.level == "error"]
+
+
 def _check_types_and_lint(controllers_file: Path, controllers_yaml: tuple[dict[str, Any], dict[str, Declared]]) -> None:
     declared = controllers_yaml[1]
     wrong = [_type_problem(controllers_file, declared, n) for n in TYPES
              if n not in declared or declared[n].type != TYPES[n]]
     assert not wrong, "your " + "; ".join(wrong) + "."
-    errors = [f for f in lint_controllers(controllers_file) if f.level == "error"]
+    errors = _lint_errors(controllers_file)
     assert not errors, "; ".join(
         f"your {controllers_file.name}{f', line {f.line}' if f.line else ''}: {f.message}" for f in errors
     ) + " (Jazzy would not load it)."
