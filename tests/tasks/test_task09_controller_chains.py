@@ -18,8 +18,18 @@ The specification (notebook 09, the exercise's TODOs and docstrings):
 
 The system is the library's RRBot description with ``sim_mujoco:=true`` (MuJoCo, effort-controlled joints).
 Generated scenarios try ``activate_chain`` and ``deactivate_chain`` from starting states of the chain within what the
-docstrings allow; the expected end state is the docstrings' (every chain controller active, or the active ones
-inactive and the others as they were).
+docstrings allow, among them controllers configured once and cleaned up (configure again); the expected end state is
+the docstrings' (every chain controller active, or the active ones inactive and the others as they were). The
+trajectory lists joint2 first; the trajectory controller's ``joints`` may be listed in any order, each with its PID's
+reference in ``command_joints``.
+
+One slip, one rule: a part of the YAML that breaks a rule is replaced by the task's chain (:data:`REFERENCE_PIDS`,
+:data:`REFERENCE_JTC`, 100 Hz) so the chain.py checks judge chain.py alone; the gains (tracking and step figures) are
+judged on the learner's PIDs once they are wired as asked, with the rest of the chain standing in where it is not
+(``graded(after=...)`` names what each check builds on). The library's ``rrbot_chained_controllers.yaml`` cannot stand
+in: it is another chain (velocity-commanding PIDs with position references, for mock hardware). The rate rule (the
+step is measured at 100 Hz) is part of the step measurement: a loop or PID at another rate fails the step figures,
+with the cause at the overshoot.
 """
 
 from __future__ import annotations
