@@ -46,6 +46,14 @@ CONFIGURED_ONCE = LOAD.replace(
     '        if loaded[name] == "unconfigured" and name not in _CONFIGURED:\n'
     '            cm.configure_controller(name)\n            _CONFIGURED.add(name)\n')
 
+# The kinds of miss of issue 29, as they apply to task 9:
+# - orders as asked: head_activated_first, activated_in_sorted_order, pids_stopped_first (the grader's own trajectory
+#   lists joint2 first; joints_listed_joint2_first is right);
+# - rates where every controller is slower than the loop: every_controller_slower_than_the_loop, slower_pid (and
+#   trajectory_controller_slower_than_the_loop is right: the specification only holds the PIDs to the loop's rate);
+# - configure again after cleanup: configured_only_once_per_session (activate_chain is tried on a cleaned-up chain);
+# - validation before anything starts, return values, NaN outputs, whole periods: the task states none (chain.py's
+#   functions return None, and the learner writes no controller output or duration).
 WRONG = [
     Variant("velocity_references_only", {YAML: [
         ("    command_interface: effort\n    reference_and_state_interfaces: [position, velocity]\n    gains:\n"
@@ -275,6 +283,14 @@ RIGHT = [
     Variant("one_switch_each_way_integer_strictness", {CHAIN: RIGHT_CHAIN_ONE_SWITCH}),
     Variant("one_controller_per_switch", {CHAIN: RIGHT_CHAIN_SET_STATE}),
     Variant("flow_yaml_other_order_stiffer_gains", {YAML: RIGHT_YAML_FLOW}),
+    Variant("node_keys_with_wildcard_and_slash", {YAML: (
+        RIGHT_YAML_OWN_SECTIONS_FLOW.replace("controller_manager:", "/**/controller_manager:")
+        .replace("\npid_controller_joint1:", "\n/**/pid_controller_joint1:")
+        .replace("\njoint_trajectory_controller:", "\n/joint_trajectory_controller:"))}),
+    Variant("update_rate_left_out_jazzy_default_100_hz", {YAML: [("    update_rate: 100  # [Hz]\n", "")]}),
+    Variant("trajectory_controller_slower_than_the_loop", {YAML: [(
+        "      type: joint_trajectory_controller/JointTrajectoryController\n",
+        "      type: joint_trajectory_controller/JointTrajectoryController\n      update_rate: 50\n")]}),
     Variant("joints_listed_joint2_first", {YAML: [
         ("    joints: [joint1, joint2]\n    command_joints: [pid_controller_joint1/joint1, pid_controller_joint2/joint2]\n",
          "    joints: [joint2, joint1]\n    command_joints: [pid_controller_joint2/joint2, pid_controller_joint1/joint1]\n")]}),
