@@ -391,8 +391,8 @@ def test_yaml_is_valid_for_jazzy(controllers_file: Path,
 
 def _type_problem(path: Path, declared: Mapping[str, Declared], name: str) -> str:
     if name not in declared or declared[name].type is None:
-        return (f"{path.name}: '{name}' has no type, neither under controller_manager nor in its own section "
-                f"(expected '{TYPES[name]}')")
+        return (f"{_where(path, name)}: '{name}' has no type, neither under controller_manager nor in its own "
+                f"section (expected '{TYPES[name]}')")
     entry = declared[name]
     where = (at(path, MANAGER_KEYS, name, "type") if "type" in entry.manager_entry
              else _where(path, name, "type"))
@@ -528,10 +528,10 @@ def test_activate_chain_from_any_state(controllers_file: Path, chain: ModuleType
                 _run(activate, cm, start)
             problems = _connected(cm)
             assert not problems, (
-                f"starting from {_described(start)}{_history(start)}, {_yours(activate)} leaves the chain not "
+                f"{_yours(activate)}, starting from {_described(start)}{_history(start)}, leaves the chain not "
                 "connected: " + "; ".join(problems) + ".")
             loose = spy.not_strict()
-            assert not loose, (f"starting from {_described(start)}, {_yours(activate)} switched without strictness "
+            assert not loose, (f"{_yours(activate)}, starting from {_described(start)}, switched without strictness "
                                "'strict': " + "; ".join(loose) + ".")
 
         scenario()
@@ -572,7 +572,8 @@ def test_deactivate_chain(controllers_file: Path, chain: ModuleType) -> None:
             deactivate(cm)
         states = _states(cm)
         wrong = {n: s for n, s in states.items() if s != ("active" if n == JSB else "inactive")}
-        assert not wrong, (f"{_yours(deactivate)} of the running chain leaves the states {states} (its switches: "
+        shown = ", ".join(f"{n} {s}" for n, s in states.items())
+        assert not wrong, (f"{_yours(deactivate)} of the running chain leaves {shown} (its switches: "
                            f"{spy.described()}); every chain controller must be inactive (loaded and configured) and "
                            f"{JSB} still active.")
         loose = spy.not_strict()
@@ -609,12 +610,12 @@ def test_deactivate_chain_from_any_state(controllers_file: Path, chain: ModuleTy
             expected = {n: ("inactive" if s == "active" else s) for n, s in start.items()}
             got = {n: s for n, s in _states(cm).items() if n in CHAIN}
             assert got == expected, (
-                f"starting from {_described(start)}, {_yours(deactivate)} leaves {_described(got)}; expected "
+                f"{_yours(deactivate)}, starting from {_described(start)}, leaves {_described(got)}; expected "
                 f"{_described(expected)} (the active ones inactive, the others as they were).")
             assert _states(cm)[JSB] == "active", f"{_yours(deactivate)} stopped {JSB}; it must leave it running."
             loose = spy.not_strict()
-            assert not loose, (f"starting from {_described(start)}, {_yours(deactivate)} switched without strictness "
-                               "'strict': " + "; ".join(loose) + ".")
+            assert not loose, (f"{_yours(deactivate)}, starting from {_described(start)}, switched without "
+                               "strictness 'strict': " + "; ".join(loose) + ".")
 
         scenario()
 
