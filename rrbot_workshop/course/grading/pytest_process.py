@@ -106,6 +106,9 @@ def _child(args: list[str], cwd: str, env: dict[str, str], output: str, drop: li
         os.dup2(fd, 1)
         os.dup2(fd, 2)
         os.close(fd)
+        # the streams on those descriptors (a copy of a notebook's kernel has the kernel's own streams)
+        sys.stdout = open(1, "w", encoding="utf-8", errors="backslashreplace", closefd=False)  # noqa: SIM115
+        sys.stderr = open(2, "w", encoding="utf-8", errors="backslashreplace", closefd=False)  # noqa: SIM115
         os.chdir(cwd)
         os.environ.clear()
         os.environ.update(env)

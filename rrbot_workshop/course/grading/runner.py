@@ -18,7 +18,7 @@ from typing import Any
 from rrbot_workshop.course import tracks
 from rrbot_workshop.course.grading import attempts, live_view
 from rrbot_workshop.course.grading.hints import CheckEntry, plan_hints
-from rrbot_workshop.course.grading.pytest_process import run_pytest
+from rrbot_workshop.course.grading.kernel_fork import run_pytest
 from rrbot_workshop.course.grading.rubric import CheckResult, Rubric
 from rrbot_workshop.exceptions import CourseError, GradingError
 
