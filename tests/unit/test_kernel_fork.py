@@ -59,7 +59,9 @@ class Kernel:
         env = {k: v for k, v in os.environ.items() if k not in (tracks.TRACK_ENV, tracks.TASK_ROOT_ENV, tracks.EXERCISES_ENV,
                                                                 FORK_ENV)}
         env[tracks.ROOT_ENV] = str(root)
-        self.manager, self.client = start_new_kernel(kernel_name="python3", cwd=str(root), env=env)
+        self.folder = root / "my_notebooks"  # a notebook's kernel runs in the notebook's folder
+        self.folder.mkdir(exist_ok=True)
+        self.manager, self.client = start_new_kernel(kernel_name="python3", cwd=str(self.folder), env=env)
         self.pid = self.manager.provisioner.process.pid  # type: ignore[union-attr]
         self.run(first_cell)
 
@@ -169,6 +171,19 @@ def test_a_grading_that_hangs_is_stopped_at_the_whole_graders_limit_and_the_copy
     assert "stopped after 15 s" in detail[1]
     assert kernel.value("kernel_fork.running()") is True
     assert _rubric(kernel, "grade(5, track='solutions', check_timeout=1.0, record=False)")["answer"][0] is True
+
+
+def test_hypothesis_keeps_its_examples_in_the_course_folder_as_in_a_new_process_not_the_notebooks(
+        kernel: Kernel, root: Path) -> None:
+    grader = root / "tests" / "tasks" / "test_task07_examples.py"
+    grader.write_text("from hypothesis import given, strategies as st\n\n\n@given(st.integers())\n"
+                      "def test_negative(n):\n    assert n < 0\n")
+    try:
+        detail = kernel.value("[c.detail for c in grade(7, check_timeout=30, record=False).checks]")
+    finally:
+        grader.unlink()
+    assert "Falsifying example" in detail[0] or "assert" in detail[0]
+    assert (root / ".hypothesis").is_dir() and not (kernel.folder / ".hypothesis").exists()
 
 
 def test_no_copy_when_the_learners_code_ran_before_the_extension_was_loaded(root: Path) -> None:

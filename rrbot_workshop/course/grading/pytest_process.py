@@ -112,6 +112,10 @@ def _child(args: list[str], cwd: str, env: dict[str, str], output: str, drop: li
         os.chdir(cwd)
         os.environ.clear()
         os.environ.update(env)
+        if "hypothesis" in sys.modules and "HYPOTHESIS_STORAGE_DIRECTORY" not in env:
+            # imported before the chdir, it took the old folder for its .hypothesis/: the run's own folder, as in a
+            # new process
+            os.environ["HYPOTHESIS_STORAGE_DIRECTORY"] = os.path.join(cwd, ".hypothesis")
         sys.dont_write_bytecode = env.get("PYTHONDONTWRITEBYTECODE", "") != ""
         # as `python -m pytest` run in cwd: the folder first, never the caller's test folders
         sys.path[:] = [cwd, *(p for p in sys.path if p and os.path.abspath(p) not in drop)]
