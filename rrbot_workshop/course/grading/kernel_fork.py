@@ -22,6 +22,7 @@ the same.
 from __future__ import annotations
 
 import contextlib
+import gc
 import json
 import os
 import signal
@@ -122,6 +123,7 @@ def _serve(sock: socket.socket, parent: int) -> None:
                     with contextlib.suppress(Exception):
                         __import__(name)
                 preloaded = True
+            gc.freeze()  # what the copy holds is never garbage: a grading's collections skip it (and leave it shared)
             child = os.fork()
             if child == 0:
                 _die_with_parent()
