@@ -9,9 +9,10 @@ grading's working folder, environment and ``sys.path``, runs :func:`pytest.main`
 process, without paying for the imports again.
 
 The fork server is worth starting only where more gradings follow: :func:`warm_up` starts it in the background (a test
-run that grades many variants, ``progress``, a notebook's self-check for the learner's next one), and until it is ready
+run that grades many variants, ``progress``), and until it is ready
 each grading starts a new Python process as before. Where fork is not available (Windows), or with
-``RRBOT_WORKSHOP_GRADE_FORK=0``, a new Python process is always started; the outcome is the same.
+``RRBOT_WORKSHOP_GRADE_FORK=0``, a new Python process is always started; the outcome is the same. (A notebook's
+self-check forks from a copy of its own kernel instead: see :mod:`.kernel_fork`.)
 """
 
 from __future__ import annotations

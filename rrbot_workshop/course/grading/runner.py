@@ -1,7 +1,9 @@
 """Run one task's grader in a fresh Python process and read back its rubric.
 
 A fresh process re-imports the learner's files every time, so a notebook's self-check sees the file as it is
-on disk now, and nothing a grader does (or a learner's endless loop) can hurt the notebook's kernel.
+on disk now, and nothing a grader does (or a learner's endless loop) can hurt the notebook's kernel. In a notebook's
+kernel the process is forked from the kernel's clean copy (:mod:`.kernel_fork`), elsewhere as
+:mod:`.pytest_process` starts it.
 """
 
 from __future__ import annotations
