@@ -364,7 +364,9 @@ def process_xacro(path: str | Path, **mappings: Any) -> str:
         recorder = xacro_cache.Recorder()
         with _xacro_sandbox(recorder):
             try:
-                doc = xacro.process_file(str(file), mappings=str_mappings, verbosity=0)
+                # a copy: xacro adds the defaults of the arguments not given to the mappings it is handed, and the
+                # expansion is kept under the arguments the caller gave
+                doc = xacro.process_file(str(file), mappings=dict(str_mappings), verbosity=0)
             except Exception as err:  # noqa: BLE001 - xacro raises many types; all become DescriptionError
                 raise _as_description_error(err, file) from err
             text = doc.toprettyxml(indent="  ")
