@@ -173,6 +173,38 @@ def test_a_grading_that_hangs_is_stopped_at_the_whole_graders_limit_and_the_copy
     assert _rubric(kernel, "grade(5, track='solutions', check_timeout=1.0, record=False)")["answer"][0] is True
 
 
+def test_an_interrupted_self_check_stops_its_grading_and_the_copy_grades_on(kernel: Kernel, root: Path) -> None:
+    """Interrupting the kernel (JupyterLab's stop button) during a self-check ends that check; the next one is forked
+    from the copy as before."""
+    grader = root / "tests" / "tasks" / "test_task06_hang.py"
+    grader.write_text("import time\n\ndef test_hangs():\n    while True:\n        time.sleep(0.05)\n")
+    copy = kernel.value("kernel_fork._COPY[0].pid")
+    children = Path(f"/proc/{copy}/task/{copy}/children")
+    errors: list[str] = []
+    try:
+        msg_id = kernel.client.execute("grade(6, check_timeout=0, total_timeout=600.0, record=False)")
+        for _ in range(1200):  # bounded: until the copy has forked the grading's process
+            if children.read_text().split():
+                break
+            time.sleep(0.05)
+        kernel.manager.interrupt_kernel()
+        while True:
+            reply = kernel.client.get_shell_msg(timeout=120)
+            if reply["parent_header"].get("msg_id") == msg_id:
+                errors.append(reply["content"].get("ename", ""))
+                break
+    finally:
+        grader.unlink()
+    assert errors == ["KeyboardInterrupt"]
+    assert kernel.value("kernel_fork.running()") is True
+    for _ in range(200):  # bounded: the interrupted grading's process is gone
+        if not children.read_text().split():
+            break
+        time.sleep(0.05)
+    assert not children.read_text().split()
+    assert _rubric(kernel, "grade(5, track='solutions', check_timeout=1.0, record=False)")["answer"][0] is True
+
+
 def test_hypothesis_keeps_its_examples_in_the_course_folder_as_in_a_new_process_not_the_notebooks(
         kernel: Kernel, root: Path) -> None:
     grader = root / "tests" / "tasks" / "test_task07_examples.py"
