@@ -211,6 +211,20 @@ def test_whole_grader_time_limit_marks_unfinished_checks(course: Path) -> None:
     assert not outcome["never_reached"][0]
 
 
+def test_grading_freezes_what_it_inherited_and_still_collects_what_it_makes(course: Path) -> None:
+    """The plugin hides the objects alive at configure from the garbage collector (its walks cost a quarter of a short
+    grading); a cycle a check makes is still collected."""
+    (course / "tests" / "tasks" / "test_task05_fake.py").write_text(
+        "import gc\nimport weakref\n\nclass Node:\n    pass\n\n"
+        "def test_inherited_objects_are_frozen():\n    assert gc.get_freeze_count() > 1000\n\n"
+        "def test_a_new_cycle_is_collected():\n    node = Node()\n    node.me = node\n    ref = weakref.ref(node)\n"
+        "    del node\n    gc.collect()\n    assert ref() is None\n"
+    )
+    rubric = grade(5, track="solutions", check_timeout=5.0)
+    assert [(c.name, c.passed, c.detail) for c in rubric.checks] == [
+        ("inherited_objects_are_frozen", True, ""), ("a_new_cycle_is_collected", True, "")]
+
+
 def test_grader_that_cannot_be_collected_raises_grading_error(course: Path) -> None:
     (course / "tests" / "tasks" / "test_task05_fake.py").write_text("def broken(:\n")
     with pytest.raises(GradingError, match="could not be collected"):
