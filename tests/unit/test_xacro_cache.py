@@ -120,3 +120,47 @@ def test_the_cache_keeps_at_most_its_size(alpha: Path) -> None:
     for name in ("a", "b", "c"):
         cache.put(alpha / name, {}, name, recorder)
     assert len(cache) == 2 and cache.get(alpha / "a", {}, str) is None and cache.get(alpha / "c", {}, str) == "c"
+
+
+def test_an_expression_is_compiled_once_and_a_refused_one_every_time(alpha: Path) -> None:
+    """Expanding with other arguments evaluates the same ``${...}`` again: its code is kept; a power beyond the
+    bound is refused on every expansion, never kept."""
+    from rrbot_workshop.description import xacro as xacro_module
+
+    path = alpha / "r.xacro"
+    path.write_text(_robot('<xacro:arg name="p" default=""/><link name="$(arg p)${2 * 21}"/>'))
+    assert '<link name="a_42"/>' in process_xacro(path, p="a_")
+    kept = xacro_module._COMPILED[("2 * 21", "<expression>", "eval")]
+    assert '<link name="b_42"/>' in process_xacro(path, p="b_")
+    assert xacro_module._COMPILED[("2 * 21", "<expression>", "eval")] is kept
+    tower = alpha / "tower.xacro"
+    tower.write_text(_robot('<xacro:arg name="p" default=""/><link name="$(arg p)${10**10**10}"/>'))
+    for prefix in ("a_", "b_"):
+        with pytest.raises(DescriptionError, match="beyond"):
+            process_xacro(tower, p=prefix)
+    assert not any("10**10**10" in key[0] for key in xacro_module._COMPILED)
+
+
+def _steps(lexer_class: type, text: str) -> list[object]:
+    """What ``eval_text`` sees of a lexer on ``text``: each token in turn, then the end or the error's message."""
+    seen: list[object] = []
+    try:
+        lexer = lexer_class(xacro.LEXER)
+        lexer.lex(text)
+        while lexer.peek():
+            seen.append(lexer.next())
+        seen.append("end")
+    except xacro.XacroException as exc:
+        seen.append(f"error: {exc}")
+    return seen
+
+
+@pytest.mark.parametrize("text", ["", "plain", "${a * 2}", "$(arg p)link_${i}", "$${escaped} $$(x) $", "a$b${c}$(d)e",
+                                  "${unclosed", "$(unclosed", "x ${1} $(", "${a}${b}${c}"])
+def test_a_kept_lexer_cuts_a_text_as_xacros_own_does_twice(text: str) -> None:
+    """The tokens of a text lexed before are given again: the same tokens, then the same end or the same error."""
+    from rrbot_workshop.description import xacro as xacro_module
+
+    own = _steps(xacro.QuickLexer, text)
+    assert _steps(xacro_module._KeptLexer, text) == own
+    assert _steps(xacro_module._KeptLexer, text) == own, "from the kept tokens"
