@@ -164,3 +164,16 @@ def test_a_kept_lexer_cuts_a_text_as_xacros_own_does_twice(text: str) -> None:
     own = _steps(xacro.QuickLexer, text)
     assert _steps(xacro_module._KeptLexer, text) == own
     assert _steps(xacro_module._KeptLexer, text) == own, "from the kept tokens"
+
+
+def test_a_file_expanded_with_its_argument_defaults_is_expanded_once(alpha: Path) -> None:
+    """xacro fills the arguments it is given with each ``<xacro:arg>``'s default: the cache's key is what the caller
+    gave, so the next call with the same arguments finds it."""
+    path = alpha / "r.xacro"
+    path.write_text(_robot('<xacro:arg name="p" default="d_"/><xacro:arg name="q" default="x"/>'
+                           '<link name="$(arg p)$(arg q)"/>'))
+    first = process_xacro(path)
+    assert '<link name="d_x"/>' in first
+    assert process_xacro(path) == first and _counts() == (1, 1)
+    assert '<link name="e_x"/>' in process_xacro(path, p="e_")
+    assert '<link name="e_x"/>' in process_xacro(path, p="e_") and _counts() == (2, 2)
