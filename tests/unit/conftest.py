@@ -16,3 +16,34 @@ def ros2_control_demos(tmp_path_factory: pytest.TempPathFactory) -> Path:
     before and after.
     """
     return extract(DEMOS, tmp_path_factory.mktemp("upstream"))
+
+
+# ------------------------------------------------------------------ xacro expansions shared by the session's processes
+_SHARED_XACRO: list[str] = []  # the folder this process made (the controller's, under pytest-xdist)
+
+
+def pytest_configure(config: pytest.Config) -> None:
+    """Every process of the run (xdist workers, the gradings they fork, notebook kernels) shares its xacro expansions
+    through one folder (:mod:`rrbot_workshop.description.xacro_cache`; each entry is checked against the files before
+    it is used). Set before the workers start, so they inherit it; kept if the caller already named one."""
+    import os
+    import tempfile
+
+    from rrbot_workshop.description.xacro_cache import SHARED_ENV
+
+    if not os.environ.get(SHARED_ENV):
+        _SHARED_XACRO.append(tempfile.mkdtemp(prefix="rrbot_workshop_xacro_"))
+        os.environ[SHARED_ENV] = _SHARED_XACRO[0]
+
+
+def pytest_unconfigure(config: pytest.Config) -> None:
+    import os
+    import shutil
+
+    from rrbot_workshop.description.xacro_cache import SHARED_ENV
+
+    for folder in _SHARED_XACRO:
+        shutil.rmtree(folder, ignore_errors=True)
+        if os.environ.get(SHARED_ENV) == folder:
+            del os.environ[SHARED_ENV]
+    _SHARED_XACRO.clear()
