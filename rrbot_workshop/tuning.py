@@ -27,12 +27,12 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
-import yourdfpy
 
 from rrbot_workshop.exceptions import DescriptionError
 
 if TYPE_CHECKING:
     import control
+    import yourdfpy
 
 __all__ = [
     "JointPlant", "PidGains", "StepResponse", "joint_plant", "closed_loop", "predict_step", "step_metrics", "measure_step",
@@ -123,6 +123,8 @@ class StepResponse:
 
 
 def _urdf_model(urdf: str) -> yourdfpy.URDF:
+    import yourdfpy  # about 1 s with trimesh: only the plant model needs it, not measure_step (a grader's import)
+
     try:
         return yourdfpy.URDF.load(io.StringIO(urdf), build_scene_graph=True, load_meshes=False,
                                   build_collision_scene_graph=False, load_collision_meshes=False)

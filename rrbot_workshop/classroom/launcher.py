@@ -458,7 +458,22 @@ def _workers(python: Path) -> list[str]:
     """pytest-xdist's options for one worker per core (none where it is not installed: the tests then run in one)."""
     cores = os.cpu_count() or 1
     found = subprocess.run([str(python), "-c", "import xdist"], capture_output=True).returncode == 0
-    return ["-n", str(cores), "--dist", "loadfile"] if found and cores > 1 else []
+    # a whole file to a worker (its module fixtures made once), handed out in the order collected: the tests' conftest
+    # puts the longest files first (tests/unit/scheduling.py), so no core works alone at the end
+    return ["-n", str(cores), "--dist", "loadfile", "--no-loadscope-reorder"] if found and cores > 1 else []
+
+
+def _longest_first(root: Path, files: list[str]) -> list[str]:
+    """``files`` in order of their measured seconds (``tests/unit/durations.json``), longest first: a run of notebooks
+    alone hands them out in the order given."""
+    try:
+        seconds = json.loads((root / "tests" / "unit" / "durations.json").read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return files
+    if not isinstance(seconds, dict):
+        return files
+    measured = {k: float(v) for k, v in seconds.items() if isinstance(v, (int, float))}
+    return sorted(files, key=lambda name: -measured.get(name, 0.0))
 
 
 def _tally(report: Path) -> tuple[int, int, int, int]:
@@ -490,11 +505,11 @@ def planned_runs(root: Path, env: dict[str, str]) -> list[tuple[str, list[str], 
     # the stored outputs are what a learner sees on the untouched exercises: compared exactly
     runs = [("library, graders and notebooks (exercises, compared)", ["--nbval", "tests/unit", *exact], exercises_env)]
     if lax:
-        runs.append(("notebooks without the withheld references (run, not compared)", ["--nbval-lax", *lax],
-                     exercises_env))
+        runs.append(("notebooks without the withheld references (run, not compared)",
+                     ["--nbval-lax", *_longest_first(root, lax)], exercises_env))
     if (root / "solutions").is_dir():  # the finished track must run top to bottom too (outputs differ)
-        runs.append(("notebooks on the solutions track (run, not compared)", ["--nbval-lax", *notebooks],
-                     {**env, "RRBOT_WORKSHOP_TRACK": "solutions"}))
+        runs.append(("notebooks on the solutions track (run, not compared)",
+                     ["--nbval-lax", *_longest_first(root, notebooks)], {**env, "RRBOT_WORKSHOP_TRACK": "solutions"}))
     return runs
 
 

@@ -1,10 +1,11 @@
-"""Fixtures of the library's tests that read real upstream files (see ``upstream.py``)."""
+"""Fixtures of the tests that read real upstream files (see ``upstream.py``); the order of a run on many cores."""
 
 from __future__ import annotations
 
 from pathlib import Path
 
 import pytest
+from scheduling import load_durations, longest_first
 from upstream import DEMOS, extract
 
 
@@ -16,6 +17,13 @@ def ros2_control_demos(tmp_path_factory: pytest.TempPathFactory) -> Path:
     before and after.
     """
     return extract(DEMOS, tmp_path_factory.mktemp("upstream"))
+
+
+def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
+    """Under pytest-xdist, the files hand out longest first (``scheduling.py``): this hook sees the whole session's
+    items, notebooks included, wherever they were collected from."""
+    if hasattr(config, "workerinput"):
+        items[:] = longest_first(items, load_durations())
 
 
 # ------------------------------------------------------------------ xacro expansions shared by the session's processes
