@@ -225,6 +225,23 @@ def test_grading_freezes_what_it_inherited_and_still_collects_what_it_makes(cour
         ("inherited_objects_are_frozen", True, ""), ("a_new_cycle_is_collected", True, "")]
 
 
+def test_grader_rewritten_once_into_the_named_folder_and_read_by_the_next_grading(
+        course: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """With ``$RRBOT_WORKSHOP_GRADER_PYCACHE`` naming a folder, the first grading keeps the grader's rewritten bytecode
+    there (nothing in the course) and the next one reads it instead of rewriting it."""
+    from rrbot_workshop.course.grading.plugin import PYCACHE_ENV
+
+    folder = tmp_path / "pycache"
+    monkeypatch.setenv(PYCACHE_ENV, str(folder))
+    first = grade(5, track="solutions", check_timeout=5.0)
+    (kept,) = folder.rglob("test_task05_fake.*pytest*.pyc")
+    written = kept.stat()
+    second = grade(5, track="solutions", check_timeout=5.0)
+    assert [(c.name, c.passed) for c in second.checks] == [(c.name, c.passed) for c in first.checks]
+    assert (kept.stat().st_ino, kept.stat().st_mtime_ns) == (written.st_ino, written.st_mtime_ns), "rewritten again"
+    assert not list(course.rglob("__pycache__"))
+
+
 def test_grader_that_cannot_be_collected_raises_grading_error(course: Path) -> None:
     (course / "tests" / "tasks" / "test_task05_fake.py").write_text("def broken(:\n")
     with pytest.raises(GradingError, match="could not be collected"):

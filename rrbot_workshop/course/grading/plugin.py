@@ -16,6 +16,12 @@ A grading is usually forked from a process that has imported pytest, numpy, MuJo
 moves them out of the garbage collector's sight (:func:`gc.freeze`), so its collections (automatic ones during the
 checks, and pytest's own at the end of the session) walk only what the grading made; this was about a quarter of a
 short grading's CPU time. Nothing is collected less: every object made after configure is collected as before.
+
+pytest rewrites the grader's ``assert`` statements at every grading (a twentieth of a short one), and a grading writes
+no bytecode. When ``$RRBOT_WORKSHOP_GRADER_PYCACHE`` names a folder (a test run that grades hundreds of times sets it),
+the grader file is imported with that folder as Python's ``sys.pycache_prefix`` and bytecode writing on, for that
+import only: the first grading writes the rewritten grader there, the next ones read it (pytest checks it against the
+source's hash). Nothing is written next to the course's or the learner's files.
 """
 
 from __future__ import annotations
@@ -25,6 +31,7 @@ import json
 import logging
 import os
 import signal
+import sys
 import threading
 from collections.abc import Generator, Iterator
 from contextlib import contextmanager
@@ -39,6 +46,8 @@ from rrbot_workshop.course.grading.rubric import HintlessFailure, check_spec
 
 __all__ = ["CheckTimeout", "RubricCollector"]
 
+#: Names a folder where gradings keep the grader file rewritten by pytest (see the module docstring).
+PYCACHE_ENV = "RRBOT_WORKSHOP_GRADER_PYCACHE"
 #: Exit status of a grader process ended by the watchdog (platforms without SIGALRM).
 WATCHDOG_EXIT = 86
 #: A check may wait (not compute) this many times its CPU-time limit before it is stopped.
@@ -296,6 +305,21 @@ def pytest_addoption(parser: pytest.Parser) -> None:
     group.addoption(
         "--check-timeout", type=float, default=30.0, help="time limit per check phase in seconds (0: none)"
     )
+
+
+@pytest.hookimpl(wrapper=True)
+def pytest_make_collect_report(collector: pytest.Collector) -> Generator[None, Any, Any]:
+    """A grader file is imported (while it is collected) with its rewritten bytecode kept in ``$RRBOT_WORKSHOP_GRADER_
+    PYCACHE``, if that names a folder (module docstring)."""
+    folder = os.environ.get(PYCACHE_ENV, "")
+    if not folder or not isinstance(collector, pytest.Module):
+        return (yield)
+    saved = sys.pycache_prefix, sys.dont_write_bytecode
+    sys.pycache_prefix, sys.dont_write_bytecode = folder, False
+    try:
+        return (yield)
+    finally:
+        sys.pycache_prefix, sys.dont_write_bytecode = saved
 
 
 def pytest_configure(config: pytest.Config) -> None:
