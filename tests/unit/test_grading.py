@@ -9,8 +9,17 @@ import pytest
 
 from rrbot_workshop.course import tracks
 from rrbot_workshop.course.grading import CheckResult, Rubric, check, grade, graded, graded_tasks, grader_path
+from rrbot_workshop.course.grading.pytest_process import warm_up
 from rrbot_workshop.course.grading.rubric import DEFAULT_POINTS, check_spec
 from rrbot_workshop.exceptions import CourseError, GradingError
+
+
+@pytest.fixture(scope="module", autouse=True)
+def _fork_server() -> None:
+    """The module's gradings are forked from one process that has imported what graders use (waited for once): each
+    would otherwise be a new Python process importing pytest, numpy, MuJoCo and the library again."""
+    warm_up(wait=True)
+
 
 _GRADER = '''
 import pytest
