@@ -207,6 +207,7 @@ class Room:
                        f'c.SimpleLocalProcessSpawner.home_dir_template = {str(self.homes) + "/{username}"!r}')
             args = ["--allow-root"] if os.geteuid() == 0 else []
         service_url = f"http://127.0.0.1:{self.service_port}"
+        proxy = [str(bin_dir / "configurable-http-proxy"), "--proxy-timeout", str(int(self.timeout * 1000))]
         environment = {"PATH": f"{bin_dir}{os.pathsep}/usr/bin:/bin", "RRBOT_WORKSHOP_ROOT": "", "MPLBACKEND": "Agg",
                        "RRBOT_WORKSHOP_CLASS_SERVICE": f"{service_url}/services/{SERVICE}/",
                        **_jupyter_environment(self.python)}
@@ -217,7 +218,8 @@ c.JupyterHub.port = {self.port}
 c.JupyterHub.hub_ip = "127.0.0.1"
 c.JupyterHub.hub_port = {self.hub_port}
 c.ConfigurableHTTPProxy.api_url = "http://127.0.0.1:{self.api_port}"
-c.ConfigurableHTTPProxy.command = [{str(bin_dir / 'configurable-http-proxy')!r}]
+# the Python proxy gives up on a server after 20 s unless told (Node's, on a real hub, waits): a room's step limit
+c.ConfigurableHTTPProxy.command = {proxy!r}
 c.JupyterHub.db_url = "sqlite:///{self.folder / 'hub.sqlite'}"
 c.JupyterHub.cookie_secret_file = {str(self.folder / 'cookie_secret')!r}
 c.JupyterHub.pid_file = {str(self.folder / 'hub.pid')!r}

@@ -400,9 +400,16 @@ def topic(line: str) -> None:
 
 def load_ipython_extension(ipython: Any) -> None:
     """Register ``%control``, ``%topic`` and ``%%pytest`` (see :func:`rrbot_workshop.course.controller_tests.pytest_cell`),
-    and short tracebacks for library errors, in an IPython shell."""
+    and short tracebacks for library errors, in an IPython shell; on Linux, fork the shell's clean copy that self-checks
+    grade in (see :mod:`rrbot_workshop.course.grading.kernel_fork`), before any of the learner's code runs."""
     from rrbot_workshop.course.controller_tests import pytest_cell
+    from rrbot_workshop.course.grading import kernel_fork
     from rrbot_workshop.course.tracebacks import register
+
+    hidden = getattr(ipython, "user_ns_hidden", {})
+    mine = [name for name in getattr(ipython, "user_ns", {}) if name not in hidden and not name.startswith("_")]
+    if getattr(ipython, "kernel", None) is not None and not mine:
+        kernel_fork.start()  # a notebook's kernel, and nothing of the learner's defined in it yet
 
     ipython.register_magic_function(control, "line", "control")
     ipython.register_magic_function(topic, "line", "topic")

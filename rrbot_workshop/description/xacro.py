@@ -443,7 +443,8 @@ def process_xacro(path: str | Path, **mappings: Any) -> str:
         recorder = xacro_cache.Recorder()
         with _xacro_sandbox(recorder):
             try:
-                # a copy: xacro adds each <xacro:arg> default to the mapping it is given, which is the cache key
+                # a copy: xacro adds the defaults of the arguments not given to the mappings it is handed, and the
+                # expansion is kept under the arguments the caller gave
                 doc = xacro.process_file(str(file), mappings=dict(str_mappings), verbosity=0)
             except Exception as err:  # noqa: BLE001 - xacro raises many types; all become DescriptionError
                 raise _as_description_error(err, file) from err

@@ -63,8 +63,16 @@ class PoseRecording:
             from meshcat.path import Path as MeshcatPath
 
         anim = Animation(default_framerate=self.fps)
-        for frame, poses in self.frames:
+        # a link that keeps its pose the whole recording (the base, links behind fixed joints) needs a keyframe at
+        # the start and one at the end (its clip as long as the others), not one per frame: it looks the same, and
+        # the page's animation is a fraction of the size to build and send
+        first = self.frames[0][1] if self.frames else {}
+        still = {link for link, pose in first.items()
+                 if all(link in poses and np.array_equal(poses[link], pose) for _, poses in self.frames[1:])}
+        for index, (frame, poses) in enumerate(self.frames):
             for link, pose in poses.items():
+                if link in still and 0 < index < len(self.frames) - 1:
+                    continue
                 entries = tuple(p for p in f"{root}/{link}".split("/") if p)
                 AnimationFrameVisualizer(anim, MeshcatPath(entries), frame).set_transform(pose)
         return anim

@@ -132,6 +132,7 @@ class Viewer:
         self._last_sent_stamp: float | None = None
         self._recording: PoseRecording | None = None
         self._animation: Any = None
+        self._frame_count = 0
         self._closed = False
         self._draw_robot()
         self._frame_camera()
@@ -295,6 +296,7 @@ class Viewer:
         if recording is None:
             return None
         self._animation = recording.animation(self._root)
+        self._frame_count = len(recording.frames)
         self.scene.set_animation(self._animation, play=play, repetitions=1)
         return self._animation
 
@@ -310,10 +312,7 @@ class Viewer:
     @property
     def frame_count(self) -> int:
         """Frames in the last finished recording (0 if none)."""
-        if self._animation is None:
-            return 0
-        clips = list(self._animation.clips.values())
-        return len(clips[0].tracks["position"].frames) if clips else 0
+        return self._frame_count if self._animation is not None else 0
 
     # ------------------------------------------------------------------------------------- output
     def static_html(self) -> str:

@@ -34,3 +34,12 @@ def test_animation_has_one_clip_per_link_under_the_root_with_every_frame():
     animation = recording.animation("/meshcat/robot")
     assert [path.lower() for path in animation.clips] == ["/meshcat/robot/link1"]
     assert [len(clip.tracks["position"].frames) for clip in animation.clips.values()] == [2]
+
+
+def test_a_link_that_keeps_its_pose_gets_the_first_and_last_keyframes_and_a_moving_one_every_frame():
+    recording = PoseRecording(fps=10.0)
+    for k in range(4):
+        recording.sample(k * 0.1, {**_pose(float(k)), "base_link": np.eye(4)})
+    clips = recording.animation("/meshcat/robot").clips
+    assert {path.lower().rsplit("/", 1)[1]: clip.tracks["position"].frames for path, clip in clips.items()} == {
+        "link1": [0, 1, 2, 3], "base_link": [0, 3]}

@@ -561,3 +561,17 @@ def test_a_learner_error_met_by_a_shared_fixture_leads_the_checks_it_served_and_
     assert checks["first"].detail == f"{learner}; then: the system did not come up"
     assert checks["second"].detail == f"{learner}; then: the second check found no system either"
     assert checks["unrelated"].detail == "an unrelated rule is broken"
+
+
+def test_hypothesis_draws_constants_from_the_learners_files_not_the_librarys(course: Path) -> None:
+    """Installed from a folder the library would be local code to Hypothesis; in a grading it never is."""
+    (course / "exercises" / "task05_fake" / "mine.py").write_text("ANSWER = 41\n")
+    (course / "tests" / "tasks" / "test_task05_fake.py").write_text(
+        "import rrbot_workshop.bringup\nfrom hypothesis.internal.constants_ast import is_local_module_file\n"
+        "from rrbot_workshop.course import tracks\n\n\ndef test_library_is_not_local():\n"
+        "    assert not is_local_module_file(rrbot_workshop.bringup.__file__)\n\n\n"
+        "def test_learners_file_is_local():\n"
+        "    assert is_local_module_file(str(tracks.task_dir(5) / 'mine.py'))\n")
+    rubric = grade(5, check_timeout=30.0, record=False)
+    assert [(c.name, c.passed) for c in rubric.checks] == [("library_is_not_local", True),
+                                                          ("learners_file_is_local", True)]

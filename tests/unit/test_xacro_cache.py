@@ -46,6 +46,17 @@ def test_the_same_file_and_arguments_are_expanded_once(alpha: Path) -> None:
     assert _counts() == (1, 2)
 
 
+def test_arguments_left_to_their_defaults_are_expanded_once_too(alpha: Path) -> None:
+    """xacro fills the defaults into the mappings it is given; the expansion is still kept under the caller's."""
+    path = alpha / "r.xacro"
+    path.write_text(_robot('<xacro:arg name="p" default="d_"/><xacro:arg name="q" default="x"/>'
+                           '<link name="$(arg p)$(arg q)"/>'))
+    first = process_xacro(path, q="y")
+    assert '<link name="d_y"/>' in first
+    assert process_xacro(path, q="y") == first and process_xacro(path) != first
+    assert _counts() == (1, 2)
+
+
 def test_an_edited_include_is_expanded_again(alpha: Path) -> None:
     (alpha / "part.xacro").write_text(_robot('<link name="one"/>'))
     path = alpha / "r.xacro"

@@ -322,8 +322,31 @@ def pytest_make_collect_report(collector: pytest.Collector) -> Generator[None, A
         sys.pycache_prefix, sys.dont_write_bytecode = saved
 
 
+def library_not_local_to_hypothesis() -> None:
+    """Hypothesis mixes constants found in the *local* modules' source (the code under test) into the examples it
+    draws. For a grader that is the learner's code, not the library: installed from a folder (``pip install -e``, as
+    the hub's installer does) the library would count as local, its ~200 modules would be parsed on every workspace's
+    first grading (most of a CPU-second), and the examples would depend on how the course was installed and on which of
+    its modules happen to be imported. Installed into site-packages it is never local; this makes it so everywhere.
+    (Hypothesis's own list of site-packages folders; if a later Hypothesis has none, its default stays.)
+    """
+    try:
+        from hypothesis.internal import scrutineer
+        from hypothesis.internal.constants_ast import is_local_module_file
+    except ImportError:
+        return
+    folders = getattr(scrutineer, "SITE_PACKAGES_DIRS", None)
+    if isinstance(folders, set):
+        folders.add(Path(__file__).resolve().parents[2])  # the rrbot_workshop package
+        for cached in (getattr(scrutineer.ModuleLocation.from_path, "cache_clear", None),
+                       getattr(is_local_module_file, "cache_clear", None)):
+            if cached is not None:
+                cached()
+
+
 def pytest_configure(config: pytest.Config) -> None:
     gc.freeze()  # what the grading inherited lives until it ends: collections need not walk it (module docstring)
+    library_not_local_to_hypothesis()
     path = config.getoption("--rubric-json")
     collector = RubricCollector(Path(path) if path else None, float(config.getoption("--check-timeout")))
     collector.start_logging()

@@ -9,9 +9,10 @@ grading's working folder, environment and ``sys.path``, runs :func:`pytest.main`
 process, without paying for the imports again.
 
 The fork server is worth starting only where more gradings follow: :func:`warm_up` starts it in the background (a test
-run that grades many variants, ``progress``, a notebook's self-check for the learner's next one), and until it is ready
+run that grades many variants, ``progress``), and until it is ready
 each grading starts a new Python process as before. Where fork is not available (Windows), or with
-``RRBOT_WORKSHOP_GRADE_FORK=0``, a new Python process is always started; the outcome is the same.
+``RRBOT_WORKSHOP_GRADE_FORK=0``, a new Python process is always started; the outcome is the same. (A notebook's
+self-check forks from a copy of its own kernel instead: see :mod:`.kernel_fork`.)
 """
 
 from __future__ import annotations
@@ -106,9 +107,16 @@ def _child(args: list[str], cwd: str, env: dict[str, str], output: str, drop: li
         os.dup2(fd, 1)
         os.dup2(fd, 2)
         os.close(fd)
+        # the streams on those descriptors (a copy of a notebook's kernel has the kernel's own streams)
+        sys.stdout = open(1, "w", encoding="utf-8", errors="backslashreplace", closefd=False)  # noqa: SIM115
+        sys.stderr = open(2, "w", encoding="utf-8", errors="backslashreplace", closefd=False)  # noqa: SIM115
         os.chdir(cwd)
         os.environ.clear()
         os.environ.update(env)
+        if "hypothesis" in sys.modules and "HYPOTHESIS_STORAGE_DIRECTORY" not in env:
+            # imported before the chdir, it took the old folder for its .hypothesis/: the run's own folder, as in a
+            # new process
+            os.environ["HYPOTHESIS_STORAGE_DIRECTORY"] = os.path.join(cwd, ".hypothesis")
         sys.dont_write_bytecode = env.get("PYTHONDONTWRITEBYTECODE", "") != ""
         # as `python -m pytest` run in cwd: the folder first, never the caller's test folders
         sys.path[:] = [cwd, *(p for p in sys.path if p and os.path.abspath(p) not in drop)]

@@ -1,7 +1,9 @@
 """Run one task's grader in a fresh Python process and read back its rubric.
 
 A fresh process re-imports the learner's files every time, so a notebook's self-check sees the file as it is
-on disk now, and nothing a grader does (or a learner's endless loop) can hurt the notebook's kernel.
+on disk now, and nothing a grader does (or a learner's endless loop) can hurt the notebook's kernel. In a notebook's
+kernel the process is forked from the kernel's clean copy (:mod:`.kernel_fork`), elsewhere as
+:mod:`.pytest_process` starts it.
 """
 
 from __future__ import annotations
@@ -18,7 +20,7 @@ from typing import Any
 from rrbot_workshop.course import tracks
 from rrbot_workshop.course.grading import attempts, live_view
 from rrbot_workshop.course.grading.hints import CheckEntry, plan_hints
-from rrbot_workshop.course.grading.pytest_process import run_pytest
+from rrbot_workshop.course.grading.kernel_fork import run_pytest
 from rrbot_workshop.course.grading.rubric import CheckResult, Rubric
 from rrbot_workshop.exceptions import CourseError, GradingError
 

@@ -1,0 +1,213 @@
+"""Gradings forked from the clean copy a notebook's kernel makes at ``%load_ext rrbot_workshop`` (Linux only).
+
+Each test talks to a real IPython kernel (jupyter_client, as JupyterLab starts one) over Jupyter's protocol.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import sys
+import time
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from rrbot_workshop.course import tracks
+from rrbot_workshop.course.grading import grade
+from rrbot_workshop.course.grading.pytest_process import FORK_ENV
+
+pytestmark = pytest.mark.skipif(sys.platform != "linux", reason="the kernel's copy for gradings is Linux only")
+
+_GRADER = '''
+from rrbot_workshop.course import tracks
+from rrbot_workshop.course.grading import graded
+
+
+@graded(points=2, hint="write 42")
+def test_answer():
+    assert (tracks.task_dir(5) / "answer.txt").read_text().strip() == "42", "the answer is not 42"
+
+
+@graded(points=1, hint="loops forever")
+def test_endless_loop():
+    while True:
+        try:
+            pass
+        except Exception:
+            pass
+'''
+
+
+def _course(root: Path) -> Path:
+    (root / "tests" / "tasks").mkdir(parents=True)
+    (root / "tests" / "tasks" / "test_task05_fake.py").write_text(_GRADER)
+    for track in tracks.TRACKS:
+        (root / track / "task05_fake").mkdir(parents=True)
+        (root / track / "task05_fake" / "answer.txt").write_text("42\n" if track == "solutions" else "?\n")
+    return root
+
+
+class Kernel:
+    """A real IPython kernel and a client to run code in it."""
+
+    def __init__(self, root: Path, first_cell: str) -> None:
+        from jupyter_client.manager import start_new_kernel
+
+        env = {k: v for k, v in os.environ.items() if k not in (tracks.TRACK_ENV, tracks.TASK_ROOT_ENV, tracks.EXERCISES_ENV,
+                                                                FORK_ENV)}
+        env[tracks.ROOT_ENV] = str(root)
+        self.folder = root / "my_notebooks"  # a notebook's kernel runs in the notebook's folder
+        self.folder.mkdir(exist_ok=True)
+        self.manager, self.client = start_new_kernel(kernel_name="python3", cwd=str(self.folder), env=env)
+        self.pid = self.manager.provisioner.process.pid  # type: ignore[union-attr]
+        self.run(first_cell)
+
+    def run(self, code: str, timeout: float = 300.0) -> str:
+        out: list[str] = []
+        errors: list[str] = []
+
+        def hook(message: dict[str, Any]) -> None:
+            if message["msg_type"] == "stream":
+                out.append(message["content"]["text"])
+            elif message["msg_type"] == "error":
+                errors.append(f"{message['content']['ename']}: {message['content']['evalue']}")
+
+        self.client.execute_interactive(code, timeout=timeout, output_hook=hook)
+        if errors:
+            raise AssertionError(f"the cell raised {errors}; printed {''.join(out)}")
+        return "".join(out)
+
+    def value(self, expression: str) -> Any:
+        return json.loads(self.run(f"import json as _json\nprint(_json.dumps({expression}))").strip().splitlines()[-1])
+
+    def stop(self) -> None:
+        self.client.stop_channels()
+        self.manager.shutdown_kernel(now=True)
+
+
+@pytest.fixture(scope="module")
+def root(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    return _course(tmp_path_factory.mktemp("kernel_fork") / "course")
+
+
+@pytest.fixture(scope="module")
+def kernel(root: Path) -> Iterator[Kernel]:
+    """A kernel whose first cell loaded the extension, as every notebook's does."""
+    k = Kernel(root, "%load_ext rrbot_workshop")
+    k.run("from rrbot_workshop.course.grading import grade, kernel_fork")
+    try:
+        yield k
+    finally:
+        k.stop()
+
+
+def _rubric(kernel: Kernel, call: str) -> dict[str, list[Any]]:
+    return dict(kernel.value(
+        f"{{c.name: [c.passed, c.points, c.detail] for c in {call}.checks}}"))
+
+
+def _alive(pid: int) -> bool:
+    try:
+        stat = Path(f"/proc/{pid}/stat").read_text()
+    except OSError:
+        return False
+    return stat.rsplit(")", 1)[1].split()[0] != "Z"
+
+
+def test_the_first_cells_load_ext_forks_a_copy_and_gradings_fork_from_it(kernel: Kernel) -> None:
+    """The grading's process is the copy's child, not the kernel's, and the copy is not the kernel."""
+    copy = kernel.value("kernel_fork._COPY[0].pid if kernel_fork.running() else None")
+    assert copy is not None and copy != kernel.pid
+    assert int(Path(f"/proc/{copy}/stat").read_text().rsplit(")", 1)[1].split()[1]) == kernel.pid
+    out = kernel.run("r = grade(5, track='solutions', check_timeout=1.0, record=False)\n"
+                     "print([c.detail for c in r.checks])")
+    assert "CheckTimeout" in out  # the endless loop was stopped by the per-check limit
+    assert kernel.value("kernel_fork.running()") is True
+
+
+def test_a_grading_in_the_kernel_gives_the_rubric_a_grading_outside_gives(kernel: Kernel, root: Path,
+                                                                         monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setenv(tracks.ROOT_ENV, str(root))
+    monkeypatch.delenv(tracks.TASK_ROOT_ENV, raising=False)
+    monkeypatch.delenv(tracks.TRACK_ENV, raising=False)
+    monkeypatch.delenv(tracks.EXERCISES_ENV, raising=False)
+    tracks.set_track(None)
+    for track in tracks.TRACKS:
+        inside = _rubric(kernel, f"grade(5, track={track!r}, check_timeout=1.0, record=False)")
+        outside = {c.name: [c.passed, c.points, c.detail] for c in grade(5, track=track, check_timeout=1.0,
+                                                                          record=False).checks}
+        assert inside == outside
+
+
+def test_the_learners_changes_in_the_kernel_do_not_reach_the_grading_but_their_files_do(kernel: Kernel,
+                                                                                       root: Path) -> None:
+    """A library function the learner replaced in the kernel stays replaced there only; the file as saved now is what
+    is graded."""
+    kernel.run("import pathlib\nfrom rrbot_workshop.course import tracks\n"
+               f"tracks.task_dir = lambda task, track=None: pathlib.Path({str(root / 'solutions' / 'task05_fake')!r})")
+    before = _rubric(kernel, "grade(5, track='exercises', check_timeout=1.0, record=False)")
+    assert before["answer"][0] is False
+    answer = root / "exercises" / "task05_fake" / "answer.txt"
+    try:
+        answer.write_text("42\n")
+        after = _rubric(kernel, "grade(5, track='exercises', check_timeout=1.0, record=False)")
+    finally:
+        answer.write_text("?\n")
+    assert after["answer"][0] is True, after
+
+
+def test_a_grading_that_hangs_is_stopped_at_the_whole_graders_limit_and_the_copy_grades_on(kernel: Kernel,
+                                                                                          root: Path) -> None:
+    grader = root / "tests" / "tasks" / "test_task06_hang.py"
+    grader.write_text("import time\n\ndef test_first():\n    pass\n\ndef test_hangs():\n    while True:\n"
+                      "        time.sleep(0.05)\n")
+    try:
+        detail = kernel.value("[c.detail for c in grade(6, check_timeout=0, total_timeout=15.0, record=False).checks]")
+    finally:
+        grader.unlink()
+    assert "stopped after 15 s" in detail[1]
+    assert kernel.value("kernel_fork.running()") is True
+    assert _rubric(kernel, "grade(5, track='solutions', check_timeout=1.0, record=False)")["answer"][0] is True
+
+
+def test_hypothesis_keeps_its_examples_in_the_course_folder_as_in_a_new_process_not_the_notebooks(
+        kernel: Kernel, root: Path) -> None:
+    grader = root / "tests" / "tasks" / "test_task07_examples.py"
+    grader.write_text("from hypothesis import given, strategies as st\n\n\n@given(st.integers())\n"
+                      "def test_negative(n):\n    assert n < 0\n")
+    try:
+        detail = kernel.value("[c.detail for c in grade(7, check_timeout=30, record=False).checks]")
+    finally:
+        grader.unlink()
+    assert "Falsifying example" in detail[0] or "assert" in detail[0]
+    assert (root / ".hypothesis").is_dir() and not (kernel.folder / ".hypothesis").exists()
+
+
+def test_no_copy_when_the_learners_code_ran_before_the_extension_was_loaded(root: Path) -> None:
+    late = Kernel(root, "x = 1\n%load_ext rrbot_workshop")
+    try:
+        assert late.value("__import__('rrbot_workshop.course.grading.kernel_fork').course.grading.kernel_fork"
+                          ".running()") is False
+        rubric = _rubric(late, "__import__('rrbot_workshop.course.grading').course.grading.grade(5, "
+                               "track='solutions', check_timeout=1.0, record=False)")
+        assert rubric["answer"][0] is True  # graded the usual way
+    finally:
+        late.stop()
+
+
+def test_the_copy_ends_with_its_kernel(root: Path) -> None:
+    k = Kernel(root, "%load_ext rrbot_workshop")
+    try:
+        copy = k.value("__import__('rrbot_workshop.course.grading.kernel_fork').course.grading.kernel_fork"
+                       "._COPY[0].pid")
+        assert _alive(copy)
+    finally:
+        k.stop()
+    for _ in range(200):  # bounded: the copy sees its socket close, or is killed with its parent
+        if not _alive(copy):
+            break
+        time.sleep(0.05)
+    assert not _alive(copy)
