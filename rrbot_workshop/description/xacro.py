@@ -149,13 +149,37 @@ def _share_directory(pkg: str) -> str:
 MAX_XACRO_EXPONENT = 10_000
 
 
+#: Code of the ``${...}`` expressions compiled so far in this process, by (source, filename, mode): a description
+#: expanded with other arguments, or a grader's next robot, evaluates the same expressions again.
+_COMPILED: dict[tuple[str, str, str], Any] = {}
+#: Expressions kept at most (a learner's generated descriptions cannot grow the process without end).
+MAX_COMPILED = 4096
+
+
 def _compile_bounded(source: Any, filename: str, mode: str, *args: Any, **kwargs: Any) -> Any:
     """Python's ``compile`` for xacro's ``${...}`` expressions, refusing a power whose exponent is a literal above
     :data:`MAX_XACRO_EXPONENT` or itself a power (a tower such as ``10**10**10``), which would never finish.
 
+    The code of an expression compiled before is given again (code objects never change): parsing, checking and
+    compiling them was a seventh of an expansion's time.
+
     Raises:
         xacro.XacroException: Naming the expression (reported as a DescriptionError with the file).
     """
+    key = (source, filename, mode) if isinstance(source, str) and not args and not kwargs else None
+    if key is not None:
+        code = _COMPILED.get(key)
+        if code is not None:
+            return code
+    code = _checked_compile(source, filename, mode, *args, **kwargs)
+    if key is not None:
+        if len(_COMPILED) >= MAX_COMPILED:
+            _COMPILED.clear()
+        _COMPILED[key] = code
+    return code
+
+
+def _checked_compile(source: Any, filename: str, mode: str, *args: Any, **kwargs: Any) -> Any:
     if isinstance(source, str):
         try:
             tree = ast.parse(source.strip(), mode="eval")
@@ -172,6 +196,58 @@ def _compile_bounded(source: Any, filename: str, mode: str, *args: Any, **kwargs
                     raise xacro.XacroException(f"expression '{source.strip()[:80]}' raises to a power beyond "
                                                f"{MAX_XACRO_EXPONENT} and would not finish")
     return compile(source, filename, mode, *args, **kwargs)
+
+
+#: Tokens of the texts xacro's ``eval_text`` lexed in this process (attribute values and text: the same few hundred
+#: again at every expansion): text -> (its tokens, the rest no token matched or None).
+_TOKENS: dict[str, tuple[tuple[tuple[int, str], ...], str | None]] = {}
+
+
+def _tokens(text: str) -> tuple[tuple[tuple[int, str], ...], str | None]:
+    """``text`` cut as xacro's lexer cuts it: the first of its patterns that matches, repeatedly."""
+    kept = _TOKENS.get(text)
+    if kept is not None:
+        return kept
+    patterns = xacro.LEXER.res
+    found: list[tuple[int, str]] = []
+    rest: str | None = None
+    left = text
+    while left:
+        for index, pattern in enumerate(patterns):
+            match = pattern.match(left)
+            if match:
+                found.append((index, match.group(0)))
+                left = left[match.end():]
+                break
+        else:
+            rest = left
+            break
+    if len(_TOKENS) >= MAX_COMPILED:
+        _TOKENS.clear()
+    kept = _TOKENS[text] = (tuple(found), rest)
+    return kept
+
+
+class _KeptLexer(xacro.QuickLexer):  # type: ignore[misc]
+    """xacro's lexer for ``eval_text`` with the tokens of each text kept (see :data:`_TOKENS`): the same tokens in the
+    same order, and the same error at the same step for a text with an invalid part."""
+
+    def lex(self, str: str) -> None:  # noqa: A002 - xacro's own parameter name
+        self._found, self._rest = _tokens(str)
+        self._at = -1
+        self.top = None
+        self.next()
+
+    def next(self) -> Any:
+        result = self.top
+        self._at += 1
+        if self._at < len(self._found):
+            self.top = self._found[self._at]  # type: ignore[assignment]
+            return result
+        self.top = None
+        if self._rest is not None:
+            raise xacro.XacroException("invalid expression: " + self._rest)
+        return result
 
 
 @contextmanager
@@ -213,6 +289,8 @@ def _xacro_sandbox(recorder: xacro_cache.Recorder | None = None) -> Iterator[Non
         saved_glob = xacro.glob
         xacro.open = _open_regular  # type: ignore[attr-defined]  # shadows the builtin in xacro's module only
         xacro.compile = _compile_bounded  # type: ignore[attr-defined]  # likewise: ${...} expressions
+        saved_lexer = xacro.QuickLexer
+        xacro.QuickLexer = _KeptLexer  # eval_text's lexer (the only one made while expanding)
         if recorder is not None:
             xacro.glob = recorder  # type: ignore[assignment]  # xacro calls glob.glob for wildcard includes
         _RECORDER = recorder
@@ -221,6 +299,7 @@ def _xacro_sandbox(recorder: xacro_cache.Recorder | None = None) -> Iterator[Non
         finally:
             _RECORDER = None
             xacro.glob = saved_glob
+            xacro.QuickLexer = saved_lexer
             vars(xacro).pop("compile", None)
             if saved_open is None:
                 vars(xacro).pop("open", None)

@@ -107,7 +107,9 @@ def grade_variants(task: int, variants: Iterable[Variant], tmp: Path, workers: i
     if duplicates:
         raise AssertionError(f"variant names must be unique: {sorted(duplicates)}")
     roots = {v.name: build_variant(task, v, tmp / v.name) for v in listed}
-    warm_up()  # many gradings follow: fork them from one process that has imported what graders use
+    # many gradings follow: fork them from one process that has imported what graders use, and wait for it (a grading
+    # started before it answers is a new Python process that imports all of it again, 1.5-2 s of CPU each)
+    warm_up(wait=True)
     share = (os.cpu_count() or 2) // int(os.environ.get("PYTEST_XDIST_WORKER_COUNT", "1") or 1)
     with ThreadPoolExecutor(max_workers=workers or max(1, share)) as pool:
         futures = {name: pool.submit(grade, task, task_root=root, record=False) for name, root in roots.items()}

@@ -9,8 +9,17 @@ import pytest
 
 from rrbot_workshop.course import tracks
 from rrbot_workshop.course.grading import CheckResult, Rubric, check, grade, graded, graded_tasks, grader_path
+from rrbot_workshop.course.grading.pytest_process import warm_up
 from rrbot_workshop.course.grading.rubric import DEFAULT_POINTS, check_spec
 from rrbot_workshop.exceptions import CourseError, GradingError
+
+
+@pytest.fixture(scope="module", autouse=True)
+def _fork_server() -> None:
+    """The module's gradings are forked from one process that has imported what graders use (waited for once): each
+    would otherwise be a new Python process importing pytest, numpy, MuJoCo and the library again."""
+    warm_up(wait=True)
+
 
 _GRADER = '''
 import pytest
@@ -209,6 +218,37 @@ def test_whole_grader_time_limit_marks_unfinished_checks(course: Path) -> None:
     assert list(outcome) == ["first", "hangs", "never_reached"]
     assert not outcome["hangs"][0] and "stopped after 15 s" in outcome["hangs"][1]
     assert not outcome["never_reached"][0]
+
+
+def test_grading_freezes_what_it_inherited_and_still_collects_what_it_makes(course: Path) -> None:
+    """The plugin hides the objects alive at configure from the garbage collector (its walks cost a quarter of a short
+    grading); a cycle a check makes is still collected."""
+    (course / "tests" / "tasks" / "test_task05_fake.py").write_text(
+        "import gc\nimport weakref\n\nclass Node:\n    pass\n\n"
+        "def test_inherited_objects_are_frozen():\n    assert gc.get_freeze_count() > 1000\n\n"
+        "def test_a_new_cycle_is_collected():\n    node = Node()\n    node.me = node\n    ref = weakref.ref(node)\n"
+        "    del node\n    gc.collect()\n    assert ref() is None\n"
+    )
+    rubric = grade(5, track="solutions", check_timeout=5.0)
+    assert [(c.name, c.passed, c.detail) for c in rubric.checks] == [
+        ("inherited_objects_are_frozen", True, ""), ("a_new_cycle_is_collected", True, "")]
+
+
+def test_grader_rewritten_once_into_the_named_folder_and_read_by_the_next_grading(
+        course: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """With ``$RRBOT_WORKSHOP_GRADER_PYCACHE`` naming a folder, the first grading keeps the grader's rewritten bytecode
+    there (nothing in the course) and the next one reads it instead of rewriting it."""
+    from rrbot_workshop.course.grading.plugin import PYCACHE_ENV
+
+    folder = tmp_path / "pycache"
+    monkeypatch.setenv(PYCACHE_ENV, str(folder))
+    first = grade(5, track="solutions", check_timeout=5.0)
+    (kept,) = folder.rglob("test_task05_fake.*pytest*.pyc")
+    written = kept.stat()
+    second = grade(5, track="solutions", check_timeout=5.0)
+    assert [(c.name, c.passed) for c in second.checks] == [(c.name, c.passed) for c in first.checks]
+    assert (kept.stat().st_ino, kept.stat().st_mtime_ns) == (written.st_ino, written.st_mtime_ns), "rewritten again"
+    assert not list(course.rglob("__pycache__"))
 
 
 def test_grader_that_cannot_be_collected_raises_grading_error(course: Path) -> None:

@@ -14,7 +14,16 @@ import pytest
 from rrbot_workshop.course import tracks
 from rrbot_workshop.course.grading import Rubric, check, grade
 from rrbot_workshop.course.grading.hints import CheckEntry, hint_level, plan_hints
+from rrbot_workshop.course.grading.pytest_process import warm_up
 from rrbot_workshop.exceptions import GradingError
+
+
+@pytest.fixture(scope="module", autouse=True)
+def _fork_server() -> None:
+    """The module's gradings are forked from one process that has imported what graders use (waited for once): each
+    would otherwise be a new Python process importing pytest, numpy, MuJoCo and the library again."""
+    warm_up(wait=True)
+
 
 #: a.txt must say 1; b (built on a) needs b.txt to say 2; c builds on b; d is on its own (d.txt says 4).
 _CHAIN = '''
