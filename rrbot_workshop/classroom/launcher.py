@@ -513,6 +513,13 @@ def planned_runs(root: Path, env: dict[str, str]) -> list[tuple[str, list[str], 
     return runs
 
 
+#: Folders the processes of a whole test command share work through: xacro expansions, each checked against the files
+#: it read before it is used (``rrbot_workshop.description.xacro_cache.SHARED_ENV``), and grader files as pytest
+#: rewrote them (``rrbot_workshop.course.grading.plugin.PYCACHE_ENV``). Named here, as this module imports only the
+#: standard library; a test checks they are the same names.
+SHARED_WORK_ENV = ("RRBOT_WORKSHOP_XACRO_CACHE", "RRBOT_WORKSHOP_GRADER_PYCACHE")
+
+
 def test(root: Path, args: Sequence[str]) -> int:
     """Set up and run every test: library, graders, and every notebook on both tracks, on every core.
 
@@ -528,6 +535,8 @@ def test(root: Path, args: Sequence[str]) -> int:
             _say("not a git checkout: testing exercises/ as it is (a learner's work may fail the graders' tests)")
         if args:
             return _pytest(python, args, env, root)
+        for name in SHARED_WORK_ENV:  # every run (and its notebook kernels and gradings) shares this work
+            env.setdefault(name, str(Path(reports) / name.lower()))
         options = ["-p", "no:cacheprovider", "--nbval-current-env", "--nbval-sanitize-with", "notebooks/nbval_sanitize.cfg",
                    *_workers(python)]
         runs = planned_runs(root, env)

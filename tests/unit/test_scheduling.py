@@ -89,3 +89,12 @@ def test_the_launcher_gives_notebook_runs_longest_first_and_keeps_the_order_it_i
     options = _workers(Path(sys.executable))
     if options:
         assert options[options.index("--dist") + 1] == "loadfile" and "--no-loadscope-reorder" in options
+
+
+def test_the_launcher_shares_work_through_the_folders_the_library_reads() -> None:
+    """The launcher (standard library only) names the shared-work folders itself: the names the library reads."""
+    from rrbot_workshop.classroom.launcher import SHARED_WORK_ENV
+    from rrbot_workshop.course.grading.plugin import PYCACHE_ENV
+    from rrbot_workshop.description.xacro_cache import SHARED_ENV
+
+    assert set(SHARED_WORK_ENV) == {SHARED_ENV, PYCACHE_ENV}
