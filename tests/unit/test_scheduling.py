@@ -11,7 +11,7 @@ from pathlib import Path
 from scheduling import UNKNOWN_SECONDS_PER_TEST, load_durations, longest_first, measured_durations
 
 from rrbot_workshop.classroom.launcher import _longest_first, _workers
-from rrbot_workshop.course.grading.references import instructor_only
+from rrbot_workshop.course.grading.references import MANIFEST, instructor_only
 
 
 @dataclass
@@ -61,13 +61,14 @@ def test_durations_are_read_from_a_real_junit_report_file_by_file(tmp_path: Path
 
 def test_the_committed_durations_name_files_that_exist() -> None:
     """Every file ``durations.json`` lists is a test file or notebook of this course (a renamed file is re-measured);
-    a student copy lacks the instructor's files it lists, and nothing else."""
+    a student copy lacks the instructor's files it lists and the tests its WITHHELD.json names, and nothing else."""
     root = Path(__file__).resolve().parents[2]
     durations = load_durations()
     assert durations, "tests/unit/durations.json is missing or empty"
     student_copy = not (root / "solutions").is_dir()
-    missing = [name for name in durations
-               if not (root / name).is_file() and not (student_copy and instructor_only(name))]
+    withheld = json.loads((root / MANIFEST).read_text()).get("tests", []) if (root / MANIFEST).is_file() else []
+    missing = [name for name in durations if not (root / name).is_file()
+               and not (student_copy and (instructor_only(name) or name in withheld))]
     assert not missing, f"durations.json lists files that do not exist: {missing}"
 
 
