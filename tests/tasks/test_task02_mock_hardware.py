@@ -59,7 +59,7 @@ from hypothesis.errors import HypothesisException
 import rrbot_workshop as rw
 from rrbot_workshop.bringup import bringup, systems
 from rrbot_workshop.controllers.goal_publishers import DEFAULT_GOALS, JointTrajectoryGoalPublisher
-from rrbot_workshop.course.grading import graded
+from rrbot_workshop.course.grading import first_failure, graded
 from rrbot_workshop.description import parse_ros2_control, process_xacro
 from rrbot_workshop.description.info import HardwareInfo
 from rrbot_workshop.description.xacro import descriptions_root
@@ -238,12 +238,7 @@ def _check_sensor_commands(description_file: Path) -> None:
 def _description_fault(description_file: Path) -> str:
     """Why the description would not bring up the hardware the task asks for, or ""; the bringup's checks then run
     on the library's RRBot description instead (this file's own checks judge it)."""
-    for check in (_check_switch, _check_sensor_commands):
-        try:
-            check(description_file)
-        except AssertionError as exc:
-            return str(exc)
-    return ""
+    return first_failure((_check_switch, _check_sensor_commands), description_file)
 
 
 # --------------------------------------------------------------------------------------------- description checks

@@ -41,7 +41,7 @@ from hypothesis import strategies as st
 
 import rrbot_workshop as rw
 from rrbot_workshop.bringup import System, bringup
-from rrbot_workshop.course.grading import graded
+from rrbot_workshop.course.grading import first_failure, graded
 from rrbot_workshop.description import descriptions_root, parse_ros2_control, process_xacro
 from rrbot_workshop.msgs import Float64MultiArray, JointTrajectory, JointTrajectoryPoint
 from rrbot_workshop.tools.lint import lint_controllers
@@ -276,12 +276,7 @@ def _reference_urdf(**args: Any) -> str:
 @functools.cache
 def _description_fault(path: Path) -> str:
     """Why the description breaks a rule its own checks judge, or ""; the running checks then use the library's."""
-    for check in (_check_prefixes, _check_placement, _check_hardware_switch, _check_same_prefix):
-        try:
-            check(path)
-        except AssertionError as exc:
-            return str(exc)
-    return ""
+    return first_failure((_check_prefixes, _check_placement, _check_hardware_switch, _check_same_prefix), path)
 
 
 # --------------------------------------------------------------------------------------------- 11.1 the description
@@ -433,12 +428,7 @@ def _check_jazzy_parameters(path: Path) -> None:
 @functools.cache
 def _yaml_fault(path: Path) -> str:
     """Why the YAML breaks a rule its own checks judge, or ""; the running checks then use the library's."""
-    for check in (_check_declared, _check_on_their_robots, _check_jazzy_parameters):
-        try:
-            check(path)
-        except AssertionError as exc:
-            return str(exc)
-    return ""
+    return first_failure((_check_declared, _check_on_their_robots, _check_jazzy_parameters), path)
 
 
 @graded(given=True, points=1, hint=(

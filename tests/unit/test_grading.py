@@ -575,3 +575,32 @@ def test_hypothesis_draws_constants_from_the_learners_files_not_the_librarys(cou
     rubric = grade(5, check_timeout=30.0, record=False)
     assert [(c.name, c.passed) for c in rubric.checks] == [("library_is_not_local", True),
                                                           ("learners_file_is_local", True)]
+
+
+def test_first_failure_names_the_first_check_that_fails_and_nothing_when_all_pass() -> None:
+    """The text of the first AssertionError, in the order the checks are given; "" when none fails; other errors
+    are not a check's verdict and reach the caller."""
+    from rrbot_workshop.course.grading import first_failure
+
+    calls: list[str] = []
+
+    def ok(value: int) -> None:
+        calls.append(f"ok {value}")
+
+    def too_small(value: int) -> None:
+        calls.append(f"too_small {value}")
+        if value <= 5:  # raised, not asserted: pytest's rewriting would add the compared values to the text
+            raise AssertionError(f"{value} is not above 5")
+
+    def never(value: int) -> None:
+        raise AssertionError("not reached")
+
+    assert first_failure((ok, too_small, never), 3) == "3 is not above 5"
+    assert calls == ["ok 3", "too_small 3"]
+    assert first_failure((ok, too_small), 9) == ""
+
+    def broken(value: int) -> None:
+        raise KeyError(value)
+
+    with pytest.raises(KeyError):
+        first_failure((broken,), 1)

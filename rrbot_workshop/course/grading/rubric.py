@@ -7,7 +7,7 @@ A check is one test function of a grader file (``tests/tasks/test_taskNN_<name>.
 from __future__ import annotations
 
 import json
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
 from typing import Any, NoReturn, TypeVar
 
@@ -101,6 +101,20 @@ def fail_without_hint(reason: str, note: str = "") -> NoReturn:
         HintlessFailure: Always.
     """
     raise HintlessFailure(reason, note)
+
+
+def first_failure(checks: Iterable[Callable[..., Any]], *args: Any) -> str:
+    """Why the first of ``checks`` that fails on ``args`` fails (its AssertionError's text), or "" when none does.
+
+    A grader asks this of a learner's file before its running checks: a file that breaks a rule its own checks judge is
+    replaced by the reference there, so each later check is judged on its own.
+    """
+    for check in checks:
+        try:
+            check(*args)
+        except AssertionError as exc:
+            return str(exc)
+    return ""
 
 
 def check_spec(func: Callable[..., Any]) -> CheckSpec:
