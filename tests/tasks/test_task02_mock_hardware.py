@@ -52,6 +52,7 @@ from typing import Any, NoReturn
 
 import pytest
 import yaml
+import yaml_places
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from hypothesis.errors import HypothesisException
@@ -387,7 +388,7 @@ def test_macro_takes_the_switch_as_parameters(task_file: Callable[[int, str], Pa
 
 def _manager_parameters(data: dict[str, Any]) -> dict[str, Any]:
     """The controller manager's ``ros__parameters``, under any key Jazzy reads for it in the root namespace."""
-    for key in ("controller_manager", "/controller_manager", "/**/controller_manager"):
+    for key in yaml_places.MANAGER_KEYS:
         body = data.get(key)
         if isinstance(body, dict) and isinstance(body.get("ros__parameters"), dict):
             return body["ros__parameters"]
@@ -398,7 +399,7 @@ def _with_rate_as_given(data: dict[str, Any]) -> dict[str, Any]:
     """The YAML with update_rate read as the learner meant it (100.0 as 100): the update_rate check judges the
     value, the other checks what the file says about the controllers."""
     fixed = copy.deepcopy(data)
-    for key in ("controller_manager", "/controller_manager", "/**/controller_manager"):
+    for key in yaml_places.MANAGER_KEYS:
         params = fixed.get(key, {}).get("ros__parameters") if isinstance(fixed.get(key), dict) else None
         if isinstance(params, dict) and "update_rate" in params:
             rate = params["update_rate"]
@@ -419,52 +420,8 @@ def _config(controllers_file: Path) -> ControllersConfig:
         _fail(f"rrbot_controllers.yaml: {exc}")
 
 
-def _type_of(cfg: ControllersConfig, name: str) -> str | None:
-    found = cfg.controller_types.get(name) or cfg.parameters_for(name).get("type")
-    return found if isinstance(found, str) else None
-
-
-def _declared(cfg: ControllersConfig) -> list[str]:
-    names = set(cfg.controller_types) | {n for n in cfg.section_names() if _type_of(cfg, n)}
-    return sorted(names)
-
-
-_MANAGER_KEYS = ("controller_manager", "/controller_manager", "/**/controller_manager")
-
-
-@functools.cache
-def _composed(path: Path) -> Any:
-    try:
-        return yaml.compose(path.read_text())
-    except yaml.YAMLError:
-        return None
-
-
-def _at(path: Path, sections: tuple[str, ...], *keys: str) -> str:
-    """``"rrbot_controllers.yaml, line N"``: where the learner wrote ``<section>: ros__parameters: <keys...>`` (the
-    deepest of them that is there), or the file's name alone."""
-    node, line = _composed(path), None
-    if isinstance(node, yaml.MappingNode):
-        for key_node, value in node.value:
-            if key_node.value in sections:
-                line, node = key_node.start_mark.line + 1, value
-                for key in ("ros__parameters", *keys):
-                    found = next(((k, v) for k, v in node.value if k.value == key), None) \
-                        if isinstance(node, yaml.MappingNode) else None
-                    if found is None:
-                        break
-                    line, node = found[0].start_mark.line + 1, found[1]
-                break
-    return f"{path.name}, line {line}" if line else path.name
-
-
-def _section(cfg: ControllersConfig, name: str) -> tuple[str, ...]:
-    """The keys under which the controller ``name``'s own section may be written."""
-    return (cfg.section_names().get(name, name), name, f"/{name}", f"/**/{name}")
-
-
 def _params(cfg: ControllersConfig, name: str) -> dict[str, Any]:
-    params = {k: v for k, v in cfg.parameters_for(name).items() if k != "type"}
+    params = yaml_places.parameters(cfg, name)
     if not params:
         _fail(f"rrbot_controllers.yaml gives '{name}' no parameters: it needs its own section, '{name}:' with "
               f"'ros__parameters:' under it (its sections: {sorted(cfg.section_names()) or 'none'})")
@@ -473,7 +430,7 @@ def _params(cfg: ControllersConfig, name: str) -> dict[str, Any]:
 
 def _check_update_rate(path: Path) -> None:
     rate = _manager_parameters(_read_yaml(path)).get("update_rate")
-    where = _at(path, _MANAGER_KEYS, "update_rate")
+    where = yaml_places.at(path, yaml_places.MANAGER_KEYS, "update_rate")
     assert rate is not None, f"{where}: controller_manager sets no update_rate"
     assert isinstance(rate, int) and not isinstance(rate, bool), (
         f"{where}: update_rate is {rate!r}; Jazzy's controller manager takes an integer (100, not 100.0)"
@@ -484,14 +441,12 @@ def _check_update_rate(path: Path) -> None:
 def _check_types(path: Path) -> None:
     cfg = _config(path)
     for name, expected in TYPES.items():
-        found = _type_of(cfg, name)
+        found = yaml_places.type_of(cfg, name)
         assert found is not None, (
-            f"rrbot_controllers.yaml declares no '{name}' with a 'type' (declared: {_declared(cfg)}); give it one "
+            f"rrbot_controllers.yaml declares no '{name}' with a 'type' (declared: {yaml_places.declared(cfg)}); give it one "
             "under controller_manager's ros__parameters (or in its own section)"
         )
-        where = _at(path, _MANAGER_KEYS, name, "type")
-        if cfg.controller_types.get(name) is None:
-            where = _at(path, _section(cfg, name), "type")
+        where = yaml_places.type_at(path, cfg, name)
         assert found == expected, f"{where}: '{name}' has type '{found}'; the task says '{expected}'"
 
 
@@ -499,11 +454,11 @@ def _check_forward(path: Path) -> None:
     cfg = _config(path)
     params = _params(cfg, FPC)
     assert params.get("joints") == JOINTS, (
-        f"{_at(path, _section(cfg, FPC), 'joints')}: {FPC} joints are {params.get('joints')!r}; the task says "
+        f"{yaml_places.at(path, yaml_places.section_keys(cfg, FPC), 'joints')}: {FPC} joints are {params.get('joints')!r}; the task says "
         f"{JOINTS}, in that order"
     )
     assert params.get("interface_name") == "position", (
-        f"{_at(path, _section(cfg, FPC), 'interface_name')}: {FPC} interface_name is "
+        f"{yaml_places.at(path, yaml_places.section_keys(cfg, FPC), 'interface_name')}: {FPC} interface_name is "
         f"{params.get('interface_name')!r}; the task says 'position'"
     )
 
@@ -514,7 +469,7 @@ def _check_trajectory_interfaces(path: Path) -> None:
     for key, expected in (("joints", JOINTS), ("command_interfaces", ["position"]),
                           ("state_interfaces", ["position", "velocity"])):
         assert params.get(key) == expected, (
-            f"{_at(path, _section(cfg, JTC), key)}: {JTC} {key} is {params.get(key)!r}; the task says {expected}"
+            f"{yaml_places.at(path, yaml_places.section_keys(cfg, JTC), key)}: {JTC} {key} is {params.get(key)!r}; the task says {expected}"
         )
 
 
@@ -522,16 +477,16 @@ def _check_trajectory_constraints(path: Path) -> None:
     cfg = _config(path)
     params = _params(cfg, JTC)
     assert params.get("allow_partial_joints_goal") is False, (
-        f"{_at(path, _section(cfg, JTC), 'allow_partial_joints_goal')}: {JTC} allow_partial_joints_goal is "
+        f"{yaml_places.at(path, yaml_places.section_keys(cfg, JTC), 'allow_partial_joints_goal')}: {JTC} allow_partial_joints_goal is "
         f"{params.get('allow_partial_joints_goal')!r}; the task says false"
     )
     constraints = params.get("constraints")
-    assert isinstance(constraints, dict), f"{_at(path, _section(cfg, JTC))}: {JTC} has no 'constraints:' mapping"
+    assert isinstance(constraints, dict), f"{yaml_places.at(path, yaml_places.section_keys(cfg, JTC))}: {JTC} has no 'constraints:' mapping"
     for key, expected in (("stopped_velocity_tolerance", 0.01), ("goal_time", 0.0)):
         value = constraints.get(key)
         assert isinstance(value, int | float) and not isinstance(value, bool) and math.isclose(
             value, expected, abs_tol=1e-9), (
-            f"{_at(path, _section(cfg, JTC), 'constraints', key)}: {JTC} constraints.{key} is {value!r}; the task "
+            f"{yaml_places.at(path, yaml_places.section_keys(cfg, JTC), 'constraints', key)}: {JTC} constraints.{key} is {value!r}; the task "
             f"says {expected}"
         )
 
@@ -563,7 +518,7 @@ def _as_stated(cfg: ControllersConfig) -> ControllersConfig:
 
 def _check_jazzy_parameters(path: Path) -> None:
     cfg = _config(path)
-    names = _declared(cfg)
+    names = yaml_places.declared(cfg)
     missing = sorted(set(TYPES) - set(names))
     assert not missing, (
         f"rrbot_controllers.yaml declares no {missing} yet, so their parameters cannot be tried in Jazzy's "
@@ -579,7 +534,7 @@ def _check_jazzy_parameters(path: Path) -> None:
             listener = cm.get_controller(name).param_listener
             unused = listener.undeclared if listener is not None else []
             assert not unused, (
-                f"{_at(path, _section(cfg, name), unused[0])}: '{name}' does not declare the parameter(s) {unused} in "
+                f"{yaml_places.at(path, yaml_places.section_keys(cfg, name), unused[0])}: '{name}' does not declare the parameter(s) {unused} in "
                 "Jazzy; remove them"
             )
     finally:
