@@ -463,16 +463,22 @@ def _workers(python: Path) -> list[str]:
     return ["-n", str(cores), "--dist", "loadfile", "--no-loadscope-reorder"] if found and cores > 1 else []
 
 
-def _longest_first(root: Path, files: list[str]) -> list[str]:
-    """``files`` in order of their measured seconds (``tests/unit/durations.json``), longest first: a run of notebooks
-    alone hands them out in the order given."""
+def read_durations(path: Path) -> dict[str, float]:
+    """File -> seconds a worker spent on it in a measured run (``tests/unit/durations.json``, see the tests'
+    ``scheduling.py``); empty if the file is missing or unreadable."""
     try:
-        seconds = json.loads((root / "tests" / "unit" / "durations.json").read_text(encoding="utf-8"))
+        seconds = json.loads(path.read_text(encoding="utf-8"))
     except (OSError, ValueError):
-        return files
+        return {}
     if not isinstance(seconds, dict):
-        return files
-    measured = {k: float(v) for k, v in seconds.items() if isinstance(v, (int, float))}
+        return {}
+    return {str(k): float(v) for k, v in seconds.items() if isinstance(v, (int, float))}
+
+
+def _longest_first(root: Path, files: list[str]) -> list[str]:
+    """``files`` in order of their measured seconds, longest first: a run of notebooks alone hands them out in the
+    order given."""
+    measured = read_durations(root / "tests" / "unit" / "durations.json")
     return sorted(files, key=lambda name: -measured.get(name, 0.0))
 
 

@@ -21,6 +21,8 @@ from collections.abc import Iterable, Mapping
 from pathlib import Path
 from typing import Protocol
 
+from rrbot_workshop.classroom.launcher import read_durations
+
 __all__ = ["DURATIONS", "UNKNOWN_SECONDS_PER_TEST", "load_durations", "longest_first", "measured_durations"]
 
 #: Seconds a worker spent on each test file (path from the repository's root) in a measured run.
@@ -36,14 +38,9 @@ class _Item(Protocol):
 
 
 def load_durations(path: Path = DURATIONS) -> dict[str, float]:
-    """File -> measured seconds from ``path``; empty if missing or unreadable (each file then counts its tests)."""
-    try:
-        data = json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, ValueError):
-        return {}
-    if not isinstance(data, dict):
-        return {}
-    return {str(k): float(v) for k, v in data.items() if isinstance(v, (int, float))}
+    """File -> measured seconds from ``path``, read as the launcher reads it; empty if missing or unreadable (each
+    file then counts its tests)."""
+    return read_durations(path)
 
 
 def _file_of(nodeid: str) -> str:
