@@ -113,6 +113,16 @@ def kernel(root: Path) -> Iterator[Kernel]:
         k.stop()
 
 
+def _details_with_grader(kernel: Kernel, root: Path, name: str, source: str, call: str) -> list[str]:
+    """The checks' details of ``call`` (a grading in the kernel) with the grader ``name`` written for it, then removed."""
+    grader = root / "tests" / "tasks" / name
+    grader.write_text(source)
+    try:
+        return list(kernel.value(f"[c.detail for c in {call}.checks]"))
+    finally:
+        grader.unlink()
+
+
 def _rubric(kernel: Kernel, call: str) -> dict[str, list[Any]]:
     return dict(kernel.value(
         f"{{c.name: [c.passed, c.points, c.detail] for c in {call}.checks}}"))
@@ -170,13 +180,10 @@ def test_the_learners_changes_in_the_kernel_do_not_reach_the_grading_but_their_f
 
 def test_a_grading_that_hangs_is_stopped_at_the_whole_graders_limit_and_the_copy_grades_on(kernel: Kernel,
                                                                                           root: Path) -> None:
-    grader = root / "tests" / "tasks" / "test_task06_hang.py"
-    grader.write_text("import time\n\ndef test_first():\n    pass\n\ndef test_hangs():\n    while True:\n"
-                      "        time.sleep(0.05)\n")
-    try:
-        detail = kernel.value("[c.detail for c in grade(6, check_timeout=0, total_timeout=15.0, record=False).checks]")
-    finally:
-        grader.unlink()
+    detail = _details_with_grader(kernel, root, "test_task06_hang.py",
+                                  "import time\n\ndef test_first():\n    pass\n\ndef test_hangs():\n    while True:\n"
+                                  "        time.sleep(0.05)\n",
+                                  "grade(6, check_timeout=0, total_timeout=15.0, record=False)")
     assert "stopped after 15 s" in detail[1]
     assert kernel.value("kernel_fork.running()") is True
     assert _rubric(kernel, "grade(5, track='solutions', check_timeout=1.0, record=False)")["answer"][0] is True
@@ -216,13 +223,10 @@ def test_an_interrupted_self_check_stops_its_grading_and_the_copy_grades_on(kern
 
 def test_hypothesis_keeps_its_examples_in_the_course_folder_as_in_a_new_process_not_the_notebooks(
         kernel: Kernel, root: Path) -> None:
-    grader = root / "tests" / "tasks" / "test_task07_examples.py"
-    grader.write_text("from hypothesis import given, strategies as st\n\n\n@given(st.integers())\n"
-                      "def test_negative(n):\n    assert n < 0\n")
-    try:
-        detail = kernel.value("[c.detail for c in grade(7, check_timeout=30, record=False).checks]")
-    finally:
-        grader.unlink()
+    detail = _details_with_grader(kernel, root, "test_task07_examples.py",
+                                  "from hypothesis import given, strategies as st\n\n\n@given(st.integers())\n"
+                                  "def test_negative(n):\n    assert n < 0\n",
+                                  "grade(7, check_timeout=30, record=False)")
     assert "Falsifying example" in detail[0] or "assert" in detail[0]
     assert (root / ".hypothesis").is_dir() and not (kernel.folder / ".hypothesis").exists()
 

@@ -209,19 +209,8 @@ def _run_in_copy(copy: _Copy, args: Sequence[str], cwd: Path, env: dict[str, str
 
 def run_pytest(args: Sequence[str], cwd: Path, env: dict[str, str], timeout: float,
                drop_paths: Sequence[str | os.PathLike[str]] = ()) -> tuple[int | None, str]:
-    """Run ``python -m pytest ARGS`` as :func:`.pytest_process.run_pytest` does, forked from the kernel's copy if
-    this process has one (see the module's description).
-
-    Args:
-        args: pytest's arguments.
-        cwd: The working folder (first on ``sys.path``, as ``python -m`` puts it).
-        env: The whole environment of the run.
-        timeout: Wall-clock limit in [s]; the run is killed after it.
-        drop_paths: Folders of the caller's ``sys.path`` the run must not see (a test run's own test folders).
-
-    Returns:
-        pytest's exit status (None when it was killed at ``timeout``) and what it printed.
-    """
+    """Run ``python -m pytest ARGS`` as :func:`.pytest_process.run_pytest` does (same arguments, same result), forked
+    from the kernel's copy if this process has one (see the module's description)."""
     with _LOCK:
         copy = _COPY[0] if _COPY and _COPY[0].alive() else None
         if copy is not None:
