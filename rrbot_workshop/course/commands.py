@@ -12,10 +12,13 @@ import math
 import re
 from collections.abc import Callable
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from rrbot_workshop.course import tracks
 from rrbot_workshop.exceptions import CourseError, GradingError
+
+if TYPE_CHECKING:
+    from rrbot_workshop.course.grading.rubric import Rubric
 
 __all__ = ["add_commands"]
 
@@ -103,6 +106,15 @@ def _cmd_grade(args: argparse.Namespace) -> int:
     return 0
 
 
+
+def _checks_line(rubric: Rubric) -> str:
+    """``"3 of 21 checks"``: the learner's checks passed. A given check (the exercise satisfied it when handed out) is
+    not the learner's work and is not counted; one that fails now is named, as it says something was broken."""
+    scored = [c for c in rubric.checks if not c.given]
+    broken = [c.name for c in rubric.checks if c.given and not c.passed]
+    line = f"{sum(c.passed for c in scored)} of {len(scored)} checks"
+    return line + (f"; given, failing now: {', '.join(broken)}" if broken else "")
+
 def _cmd_progress(args: argparse.Namespace) -> int:
     from rrbot_workshop.course.grading import attempts
     from rrbot_workshop.course.grading.pytest_process import warm_up
@@ -131,8 +143,7 @@ def _cmd_progress(args: argparse.Namespace) -> int:
         results.append(entry)
         score += rubric.score
         max_score += rubric.max_score
-        passed = len(rubric.checks) - len(rubric.failed())
-        lines.append(f"  {label:<32} {rubric.score:>5g}/{rubric.max_score:<5g} ({passed} of {len(rubric.checks)} checks)")
+        lines.append(f"  {label:<32} {rubric.score:>5g}/{rubric.max_score:<5g} ({_checks_line(rubric)})")
     lines.append(f"Total: {score:g}/{max_score:g} points")
     if args.json:
         print(json.dumps({"track": track, "score": score, "max_score": max_score, "tasks": results}))

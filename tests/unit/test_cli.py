@@ -129,6 +129,22 @@ def test_progress_text_has_one_line_per_task(course: Path, capsys: pytest.Captur
     assert out[-1] == "Total: 1/3 points"
 
 
+def test_progress_counts_the_learners_checks_not_the_given_ones(course: Path,
+                                                                capsys: pytest.CaptureFixture[str]) -> None:
+    grader = course / "tests" / "tasks" / "test_task05_fake.py"
+    grader.write_text(grader.read_text() + "\n\n@graded(given=True, points=1, hint='keep the file')\n"
+                      "def test_file_kept():\n    assert (tracks.task_dir(5) / 'answer.txt').is_file()\n")
+    assert main(["progress"]) == 0
+    line = capsys.readouterr().out.splitlines()[1]
+    if "0/2" not in line or "(0 of 1 checks)" not in line:  # the given check passes, yet it is not the learner's
+        raise AssertionError(line)
+    (course / "exercises" / "task05_fake" / "answer.txt").unlink()
+    assert main(["progress"]) == 0
+    line = capsys.readouterr().out.splitlines()[1]
+    if "(0 of 1 checks; given, failing now: file_kept)" not in line:
+        raise AssertionError(line)
+
+
 def test_tasks_lists_tasks_and_track(course: Path, capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["tasks"]) == 0
     out = capsys.readouterr().out
