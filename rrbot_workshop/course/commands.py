@@ -106,7 +106,6 @@ def _cmd_grade(args: argparse.Namespace) -> int:
     return 0
 
 
-
 def _checks_line(rubric: Rubric) -> str:
     """``"3 of 21 checks"``: the learner's checks passed. A given check (the exercise satisfied it when handed out) is
     not the learner's work and is not counted; one that fails now is named, as it says something was broken."""
@@ -114,6 +113,7 @@ def _checks_line(rubric: Rubric) -> str:
     broken = [c.name for c in rubric.checks if c.given and not c.passed]
     line = f"{sum(c.passed for c in scored)} of {len(scored)} checks"
     return line + (f"; given, failing now: {', '.join(broken)}" if broken else "")
+
 
 def _cmd_progress(args: argparse.Namespace) -> int:
     from rrbot_workshop.course.grading import attempts
