@@ -47,9 +47,10 @@ _READY = threading.Event()
 _WARMING: list[threading.Thread] = []
 
 
-def preload() -> None:
-    """Import :data:`PRELOAD` (each that imports; run in the fork server, once, by importing ``fork_preload``)."""
-    for name in PRELOAD:
+def preload(names: Sequence[str] = PRELOAD) -> None:
+    """Import ``names`` (each that imports): :data:`PRELOAD` in the fork server, once, by importing ``fork_preload``;
+    a kernel's copy imports its own list (:mod:`.kernel_fork`)."""
+    for name in names:
         with contextlib.suppress(Exception):
             importlib.import_module(name)
 
