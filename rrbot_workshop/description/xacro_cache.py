@@ -47,6 +47,11 @@ SHARED_ENV = "RRBOT_WORKSHOP_XACRO_CACHE"
 Key = tuple[str, tuple[tuple[str, str], ...]]
 
 
+def _key_json(key: Key) -> list[object]:
+    """``key`` as JSON holds it (lists for tuples): what a shared entry names and what its file name is hashed from."""
+    return [key[0], [list(pair) for pair in key[1]]]
+
+
 def digest_of(path: str) -> str | None:
     """SHA-256 of a file's bytes, or None if it cannot be read now."""
     try:
@@ -95,7 +100,7 @@ class Expansion:
 
     def to_json(self, key: Key) -> str:
         """The expansion and its key as JSON, for the shared folder."""
-        return json.dumps({"key": [key[0], [list(pair) for pair in key[1]]], "text": self.text, "files": self.files,
+        return json.dumps({"key": _key_json(key), "text": self.text, "files": self.files,
                            "finds": self.finds, "globs": {p: list(m) for p, m in self.globs.items()},
                            "env": self.env})
 
@@ -104,7 +109,7 @@ class Expansion:
         """The expansion of ``key`` kept in ``data``; None if ``data`` is not one (another key, damaged, cut short)."""
         try:
             loaded = json.loads(data)
-            if loaded["key"] != [key[0], [list(pair) for pair in key[1]]]:
+            if loaded["key"] != _key_json(key):
                 return None
             return cls(str(loaded["text"]), {str(p): str(d) for p, d in loaded["files"].items()},
                        {str(p): str(f) for p, f in loaded["finds"].items()},
@@ -161,7 +166,7 @@ class ExpansionCache:
         folder = os.environ.get(SHARED_ENV, "")
         if not folder:
             return None
-        name = hashlib.sha256(json.dumps([key[0], list(key[1])]).encode()).hexdigest()
+        name = hashlib.sha256(json.dumps(_key_json(key)).encode()).hexdigest()
         return Path(folder) / f"{name}.json"
 
     def _shared(self, key: Key, find: Callable[[str], str]) -> Expansion | None:
