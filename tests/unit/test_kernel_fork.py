@@ -5,6 +5,7 @@ Each test talks to a real IPython kernel (jupyter_client, as JupyterLab starts o
 
 from __future__ import annotations
 
+import ast
 import json
 import os
 import sys
@@ -89,8 +90,15 @@ class Kernel:
             raise AssertionError(f"the cell raised {errors}; printed {''.join(out)}")
         return "".join(out)
 
-    def value(self, expression: str) -> Any:
-        return json.loads(self.run(f"import json as _json\nprint(_json.dumps({expression}))").strip().splitlines()[-1])
+    def value(self, expression: str, timeout: float = 300.0) -> Any:
+        """``expression`` evaluated in the kernel, read from the execute reply (its ``user_expressions``), not from
+        printed output: after an interrupt, a print's stream message may reach the client after the reply."""
+        reply = self.client.execute_interactive("", timeout=timeout, user_expressions={
+            "value": f"__import__('json').dumps({expression})"})
+        found = reply["content"]["user_expressions"]["value"]
+        if found["status"] != "ok":
+            raise AssertionError(f"{expression} raised {found.get('ename')}: {found.get('evalue')}")
+        return json.loads(ast.literal_eval(found["data"]["text/plain"]))
 
     def stop(self) -> None:
         self.client.stop_channels()
