@@ -406,11 +406,13 @@ HIDDEN = ("__pycache__", "*.pyc", "*.pyo", ".DS_Store", "*~", "notebooks", "back
 
 def jupyterlab_command(python: Path, root: Path, show_solutions: bool = False) -> list[str]:
     """The JupyterLab command of ``start``: on 127.0.0.1, at the course's root, opening the learner's intro."""
+    from rrbot_workshop.classroom.kernels import server_args
+
     hidden = [g for g in HIDDEN if not (show_solutions and g == "solutions")]
     return [
         str(python), "-m", "jupyterlab", "--ip=127.0.0.1", f"--ServerApp.root_dir={root}",
         "--LabApp.default_url=/lab/tree/my_notebooks/00_intro.ipynb",
-        f"--ContentsManager.hide_globs={hidden!r}",
+        f"--ContentsManager.hide_globs={hidden!r}", *server_args(),
     ]
 
 

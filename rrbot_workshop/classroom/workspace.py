@@ -332,9 +332,10 @@ def singleuser_command(workspace: Path, args: list[str]) -> list[str]:
     this Python, started lighter (:mod:`rrbot_workshop.classroom.server`)."""
     import sys
 
+    from rrbot_workshop.classroom import kernels
     from rrbot_workshop.classroom.launcher import HIDDEN
     from rrbot_workshop.classroom.server import extension_args
 
     return [sys.executable, "-m", "rrbot_workshop.classroom.server", f"--ServerApp.root_dir={workspace}",
             "--ServerApp.default_url=/lab/tree/my_notebooks/00_intro.ipynb",
-            f"--ContentsManager.hide_globs={list(HIDDEN)!r}", *extension_args(), *args]
+            f"--ContentsManager.hide_globs={list(HIDDEN)!r}", *extension_args(), *kernels.server_args(), *args]

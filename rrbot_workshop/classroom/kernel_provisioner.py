@@ -1,0 +1,53 @@
+"""The Jupyter side of :mod:`.kernels`: the kernel provisioner that asks the server's template for each kernel, and the
+server extension that starts the template with the server.
+
+Both are named in the server's arguments (:func:`.kernels.server_args`, given by ``./workshop start`` and by a
+learner's server on a hub); the provisioner is found through its entry point in pyproject.toml.
+"""
+
+from __future__ import annotations
+
+import atexit
+import contextlib
+import os
+from typing import Any
+
+from jupyter_client.provisioning import LocalProvisioner
+
+from rrbot_workshop.classroom import kernels
+
+__all__ = ["ForkingProvisioner"]
+
+
+class ForkingProvisioner(LocalProvisioner):  # type: ignore[misc]
+    """:class:`~jupyter_client.provisioning.LocalProvisioner`, with the kernel forked from the server's template when
+    it can be (see :mod:`.kernels`); everything else (ports, connection file, interrupts, restarts) is its own."""
+
+    async def launch_kernel(self, cmd: list[str], **kwargs: Any) -> Any:
+        kernel = None
+        env = kwargs.get("env")
+        if not set(kwargs) - {"env", "cwd", "kernel_id", "extra_arguments"} and isinstance(env, dict):
+            kernel = kernels.template().launch(list(cmd), dict(env), str(kwargs.get("cwd") or os.getcwd()))
+        if kernel is None:
+            return await super().launch_kernel(cmd, **kwargs)
+        self.process = kernel  # type: ignore[assignment]  # shaped like Popen: poll, wait, send_signal, kill
+        self.pid = self.pgid = kernel.pid  # the child starts a session of its own
+        self.cwd = kwargs.get("cwd", os.getcwd())
+        return self.connection_info
+
+
+def _jupyter_server_extension_points() -> list[dict[str, str]]:
+    return [{"module": kernels.EXTENSION}]
+
+
+def _load_jupyter_server_extension(serverapp: Any) -> None:
+    """Start the template with the server, with the Python options of the server's default kernel; it ends with the
+    server."""
+    flags: list[str] | None = []
+    with contextlib.suppress(Exception):  # no such kernel: the template serves none, harmlessly
+        spec = serverapp.kernel_spec_manager.get_kernel_spec(serverapp.kernel_manager.default_kernel_name)
+        flags = kernels.kernel_flags(list(spec.argv))
+    if flags is not None and kernels.template().start(flags):
+        atexit.register(kernels.template().stop)
+        serverapp.log.info("rrbot_workshop: kernels are forked from a template process (%s=0 turns it off)",
+                           kernels.FORK_ENV)
