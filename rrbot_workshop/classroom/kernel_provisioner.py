@@ -7,9 +7,11 @@ learner's server on a hub); the provisioner is found through its entry point in 
 
 from __future__ import annotations
 
+import asyncio
 import atexit
 import contextlib
 import os
+import time
 from typing import Any
 
 from jupyter_client.provisioning import LocalProvisioner
@@ -27,7 +29,11 @@ class ForkingProvisioner(LocalProvisioner):  # type: ignore[misc]
         kernel = None
         env = kwargs.get("env")
         if not set(kwargs) - {"env", "cwd", "kernel_id", "extra_arguments"} and isinstance(env, dict):
-            kernel = kernels.template().launch(list(cmd), dict(env), str(kwargs.get("cwd") or os.getcwd()))
+            template = kernels.template()
+            deadline = time.monotonic() + kernels.READY_WAIT
+            while template.starting() and time.monotonic() < deadline:  # a notebook opened as the server started
+                await asyncio.sleep(0.1)
+            kernel = template.launch(list(cmd), dict(env), str(kwargs.get("cwd") or os.getcwd()))
         if kernel is None:
             return await super().launch_kernel(cmd, **kwargs)
         self.process = kernel  # type: ignore[assignment]  # shaped like Popen: poll, wait, send_signal, kill

@@ -71,6 +71,9 @@ EXTENSION = "rrbot_workshop.classroom.kernel_provisioner"
 TEMPLATE_MODULE = "rrbot_workshop.classroom.kernels"
 #: The backend ipykernel gives matplotlib when the environment names none.
 INLINE_BACKEND = "module://matplotlib_inline.backend_inline"
+#: How long a kernel asked for while the template still imports waits for it [s]; it would spend the same time importing
+#: the same modules as a new process, so it waits, up to this limit, and then starts as one.
+READY_WAIT = 60.0
 #: Environment variables read when Python or a preloaded module starts: a kernel whose values differ is not forked.
 STARTUP_VARIABLES = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "LD_PRELOAD", "LD_LIBRARY_PATH",
                      "VIRTUAL_ENV", "MPLCONFIGDIR")
@@ -216,6 +219,11 @@ class _Template:
             self._process = None
             self._retired = [p for p in self._retired if p.poll() is None]
         self.start()
+
+    def starting(self) -> bool:
+        """Whether the template runs but still imports (its socket is not there yet)."""
+        process = self._process
+        return process is not None and process.poll() is None and not self.ready()
 
     def stop(self) -> None:
         """End the template, and retired ones (closing its input ends it; its kernels end with it)."""

@@ -24,6 +24,8 @@ from pathlib import Path
 import pytest
 from browser_driver import CHROMIUM, HANG_GUARD, LAB_HELPERS, Browser, unavailable
 
+from rrbot_workshop.classroom import kernels
+
 ROOT = Path(__file__).resolve().parents[2]
 #: The environment given to the course's test command, if any (see rrbot_workshop.classroom.launcher.PYTHON_ENV).
 GIVEN = "RRBOT_WORKSHOP_PYTHON"
@@ -173,8 +175,23 @@ def _open_notebook(browser: Browser, url: str, path: str) -> int:
     return int(browser.js(f"rrbotTest.open({path!r})"))
 
 
+def _forked_kernels(clone: Path) -> list[int]:
+    """The kernels working in ``clone`` whose parent is a kernel template (rrbot_workshop/classroom/kernels.py)."""
+    found = []
+    for entry in Path("/proc").iterdir():
+        try:
+            if not entry.name.isdigit() or not (entry / "cwd").resolve().is_relative_to(clone.resolve()):
+                continue
+            parent = (entry / "stat").read_text().rsplit(")", 1)[1].split()[1]
+            if kernels.TEMPLATE_MODULE.encode() in Path(f"/proc/{parent}/cmdline").read_bytes():
+                found.append(int(entry.name))
+        except OSError:
+            continue
+    return found
+
+
 def test_the_intro_runs_its_first_cells_in_the_browser(lab: tuple[str, Path], browser: Browser, tmp_path: Path) -> None:
-    url, _ = lab
+    url, clone = lab
     assert _open_notebook(browser, url, "my_notebooks/00_intro.ipynb") > 10
     cells = [1, 4, 6]  # imports and %load_ext, the bring-up, %control list_controllers
     browser.js(f"rrbotTest.run({cells}); true")  # started, not awaited: done() is polled
@@ -182,6 +199,8 @@ def test_the_intro_runs_its_first_cells_in_the_browser(lab: tuple[str, Path], br
     assert browser.js("rrbotTest.errors()") == []
     listing = browser.js("rrbotTest.outputText(6)")
     assert "forward_position_controller" in listing and "active" in listing, listing
+    if Path("/proc/self/cwd").exists():
+        assert _forked_kernels(clone), "the notebook's kernel was not forked from the server's template"
     png = browser.screenshot(tmp_path / "intro_cells.png")
     assert png.stat().st_size > 20_000
     _keep(png)
