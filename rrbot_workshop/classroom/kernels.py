@@ -307,12 +307,23 @@ def _startup(env: dict[str, str] | os._Environ[str]) -> dict[str, str]:
     return {k: v for k, v in env.items() if k.startswith("PYTHON") or k in STARTUP_VARIABLES}
 
 
+def _same_python(command: str, executable: str) -> bool:
+    """Whether ``command`` starts the template's Python in the template's environment: the same interpreter, found
+    in the same folder (a virtual environment's ``bin/python`` is a link to the base interpreter, and that folder is
+    what makes it the environment's; the folder may be reached through a link, as a clone's ``.venv`` is)."""
+    try:
+        return (os.path.samefile(command, executable)
+                and os.path.realpath(os.path.dirname(command)) == os.path.realpath(os.path.dirname(executable)))
+    except OSError:
+        return False
+
+
 def _refusal(request: dict[str, Any], executable: str, flags: list[str], startup: dict[str, str]) -> str | None:
     """Why the template cannot give this kernel; ``None`` when it can."""
     cmd = request.get("cmd")
     if not (isinstance(cmd, list) and len(cmd) >= 3 and all(isinstance(a, str) for a in cmd)):
         return "the kernel's command is not a list of strings"
-    if os.path.abspath(cmd[0]) != executable or kernel_flags(cmd) != flags or len(cmd) < len(flags) + 3:
+    if not _same_python(cmd[0], executable) or kernel_flags(cmd) != flags or len(cmd) < len(flags) + 3:
         expected = " ".join([executable, *flags, "-m", "MODULE ..."])
         return f"the kernel's command {' '.join(cmd[:len(flags) + 3])} is not `{expected}`"
     if not isinstance(request.get("env"), dict) or not isinstance(request.get("cwd"), str):

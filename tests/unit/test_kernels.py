@@ -294,3 +294,15 @@ def test_a_jupyter_server_started_with_the_courses_arguments_forks_its_kernels(t
             server.kill()
             server.wait()
     assert template_pid is not None and _wait_gone(template_pid)
+
+
+def test_the_same_python_is_the_same_interpreter_in_the_same_folder_even_through_a_link(tmp_path: Path) -> None:
+    executable = os.path.abspath(sys.executable)
+    linked_folder = tmp_path / "linked_bin"
+    linked_folder.symlink_to(Path(executable).parent)  # a clone's .venv linked to the course's
+    other_env = tmp_path / "other_env" / "bin"
+    other_env.mkdir(parents=True)
+    (other_env / "python").symlink_to(os.path.realpath(executable))  # another environment on the same interpreter
+    assert kernels._same_python(str(linked_folder / Path(executable).name), executable)
+    assert not kernels._same_python(str(other_env / "python"), executable)
+    assert not kernels._same_python(str(tmp_path / "missing" / "python"), executable)
