@@ -1,29 +1,34 @@
-"""Notebook kernels forked from a warm process: a Jupyter kernel provisioner and the server extension that warms it.
+"""Notebook kernels forked from a warm process: the template process and the server's handle on it.
 
-A learner's first minute on a hub is mostly a new Python process importing things: the kernel's own start
-(ipykernel, IPython, zmq), then notebook 02's imports (numpy, the library, xacro, lxml) and the 3D viewer's kinematics
-(yourdfpy imports trimesh, and trimesh imports much of scipy and networkx). Measured with ``benchmarks/bench_room.py``,
-about 2 of the 5.4 CPU-seconds from a learner's login to their first graded result went there, and 30 learners paid it
-at the same minute.
+A learner's first minute on a hub is mostly new Python processes importing things: the kernel's own start (ipykernel,
+IPython, zmq), then notebook 02's imports (numpy, the library, xacro, lxml, matplotlib) and the 3D viewer's
+kinematics (yourdfpy imports trimesh, and trimesh much of scipy and networkx). Measured with
+``benchmarks/bench_room.py``, that was more than half of the 5.4 CPU-seconds from a learner's login to their first
+graded result, and 30 learners paid it in the same minute.
 
-So a learner's Jupyter server (on a hub and on a laptop) starts a *template* process beside itself when it starts,
-before anybody opens a notebook: a Python that imports :data:`KERNEL_PRELOAD` once and waits. The server's kernels
-are then started by :class:`ForkingProvisioner` (``KernelProvisionerFactory.default_provisioner_name``): the template
-forks a child that becomes ``python -m ipykernel_launcher -f CONNECTION_FILE`` exactly as the server would have started
-it, with the kernel's command, working folder and environment, in a session of its own (so an interrupt reaches the
-kernel's process group as before). The child runs the launcher module as ``__main__`` with ``runpy``, as ``-m``
-does; at the end it runs the ``atexit`` handlers, as an interpreter's exit would.
+So a learner's Jupyter server (on a hub, and ``./workshop start`` on Linux) starts a *template* beside itself when it
+starts, before anybody opens a notebook: a Python that imports :data:`KERNEL_PRELOAD` once and waits on a socket in a
+folder only its user can enter. The server's kernels are started by
+:class:`~rrbot_workshop.classroom.kernel_provisioner.ForkingProvisioner` (the server's
+``KernelProvisionerFactory.default_provisioner_name``, see :func:`server_args`): the template forks a child that
+becomes ``python -m ipykernel_launcher -f CONNECTION_FILE`` as the server would have started it, with the kernel's
+command, working folder and environment, in a session of its own (an interrupt reaches the kernel's process group as
+before). The child runs the launcher module as ``__main__`` with ``runpy``, as ``-m`` does, and at the end waits for
+its threads and runs the ``atexit`` handlers, as an interpreter's exit does.
 
-What the kernel can tell: its parent is the template, not the server (``JPY_PARENT_PID`` names the template, so the
-kernel still ends when its parent does, and the template ends with the server); the preloaded modules are already in
-``sys.modules`` (the library's files are read at the template's start: the template compares every preloaded module's
-file with what it read before each kernel and, when one changed, e.g. after ``git pull``, hands kernels back to the
-server and ends once its kernels have); and all kernels share the template's ``str`` hash seed. numpy's global random
-state, matplotlib's backend and Python's ``random`` are set afresh in each kernel as a new process would have them.
+What a kernel can tell: its parent is the template, not the server (``JPY_PARENT_PID`` names the template, so the
+kernel ends when the template does, and the template ends with the server); ``ps`` shows the template's command line
+for it; the preloaded modules are in ``sys.modules`` already; and all kernels share the template's ``str`` hash seed.
+numpy's global random state, matplotlib's backend and Python's ``random`` are set afresh in each kernel, as a new
+process has them, and ipykernel's application module runs again in each (:data:`FRESH`). Before each kernel the
+template compares the file of every module it holds with what it read; when one changed (``git pull``, a ``pip
+install``) the kernel starts as a new process, the template takes no more and ends after its last kernel, and a new
+template starts for the next ones.
 
-A kernel is started the usual way (:class:`~jupyter_client.provisioning.LocalProvisioner`) while the template is still
-importing, when the command is not ``python -m MODULE ...`` of the template's own Python, when an environment variable
-that Python or numpy read at start differs from the template's, or with ``RRBOT_WORKSHOP_KERNEL_FORK=0``.
+Linux only. A kernel is started the usual way (jupyter_client's ``LocalProvisioner``) on other systems, while the
+template is still importing after :data:`READY_WAIT`, when the command is not ``python [OPTIONS] -m MODULE ...`` of
+the template's own Python and options, when an environment variable that Python or numpy read at start differs from
+the template's (:data:`STARTUP_VARIABLES`, ``PYTHON*``), or with ``RRBOT_WORKSHOP_KERNEL_FORK=0``.
 """
 
 from __future__ import annotations
@@ -94,8 +99,9 @@ def kernel_flags(argv: list[str]) -> list[str] | None:
 
 
 def enabled() -> bool:
-    """Whether kernels may be forked here (a POSIX system, and not turned off with ``RRBOT_WORKSHOP_KERNEL_FORK=0``)."""
-    return os.environ.get(FORK_ENV, "1") != "0" and hasattr(os, "fork") and sys.platform != "win32"
+    """Whether kernels are forked here: on Linux (macOS's system libraries are not safe to use in a forked child, which
+    is why Python no longer forks there by default), and not turned off with ``RRBOT_WORKSHOP_KERNEL_FORK=0``."""
+    return os.environ.get(FORK_ENV, "1") != "0" and sys.platform == "linux"
 
 
 # --------------------------------------------------------------------------------------------- the server's side

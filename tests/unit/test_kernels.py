@@ -1,4 +1,4 @@
-"""Notebook kernels forked from the server's template process (POSIX only).
+"""Notebook kernels forked from the server's template process (Linux only).
 
 Kernels are started the way a Jupyter server starts them: jupyter_client's ``KernelManager`` with the provisioner the
 server is given (:func:`rrbot_workshop.classroom.kernels.server_args`), spoken to over Jupyter's protocol. The last
@@ -23,7 +23,7 @@ import pytest
 
 from rrbot_workshop.classroom import kernels
 
-pytestmark = pytest.mark.skipif(not hasattr(os, "fork") or sys.platform == "win32", reason="fork is POSIX only")
+pytestmark = pytest.mark.skipif(sys.platform != "linux", reason="kernels are forked on Linux only")
 
 FLAGS = ["-Xfrozen_modules=off"]  # ipykernel's own kernel's Python options
 
