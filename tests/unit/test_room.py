@@ -33,6 +33,7 @@ from typing import Any
 import pytest
 from browser_driver import CHROMIUM, Browser, unavailable
 
+from rrbot_workshop.classroom import kernels
 from rrbot_workshop.classroom.class_report import build_report
 from rrbot_workshop.classroom.class_report_page import write_report
 from rrbot_workshop.classroom.hub import server_state
@@ -116,6 +117,7 @@ class RoomRecord:
     runs: dict[str, LearnerRun] = field(default_factory=dict)
     admin_page: dict[str, Any] = field(default_factory=dict)
     isolation: list[str] = field(default_factory=list)
+    kernel_parent: str = ""
     status: dict[str, Any] = field(default_factory=dict)
     learner_view: int = 0
     assistant_view: int = 0
@@ -198,6 +200,10 @@ def _isolation(room: Room, record: RoomRecord) -> None:
     for snippet in code:
         errors = room.run_code(ana, record.runs[ana].token, kernel, snippet)
         record.isolation.append(errors[0] if errors else "")
+    # what started the kernel: raised as an error, the one thing run_code gives back
+    parent = "import os; raise RuntimeError(open(f'/proc/{os.getppid()}/cmdline', 'rb').read().replace(b'\\0', b' '))"
+    errors = room.run_code(ana, record.runs[ana].token, kernel, parent)
+    record.kernel_parent = errors[0] if errors else ""
 
 
 def _browser(room: Room, record: RoomRecord, folder: Path) -> None:
@@ -322,6 +328,11 @@ def test_one_learner_cannot_read_or_write_anothers_workspace(room: RoomRecord) -
     _needs_accounts(room)
     assert len(room.isolation) == 3
     assert all(error.startswith("PermissionError") for error in room.isolation), room.isolation
+
+
+@pytest.mark.skipif(not Path("/proc/self/cmdline").exists(), reason="reads the kernel's parent from /proc")
+def test_a_learners_kernel_is_forked_from_their_servers_kernel_template(room: RoomRecord) -> None:
+    assert kernels.TEMPLATE_MODULE in room.kernel_parent, room.kernel_parent
 
 
 def test_the_learners_accounts_are_removed_with_the_room(room: RoomRecord) -> None:
