@@ -226,6 +226,11 @@ class _Template:
             self._retired = [p for p in self._retired if p.poll() is None]
         self.start()
 
+    def started(self) -> bool:
+        """Whether a template was started here and runs (importing or ready)."""
+        process = self._process
+        return process is not None and process.poll() is None
+
     def starting(self) -> bool:
         """Whether the template runs but still imports (its socket is not there yet)."""
         process = self._process
@@ -245,15 +250,24 @@ class _Template:
             except subprocess.TimeoutExpired:
                 process.kill()
 
-    def launch(self, cmd: list[str], env: dict[str, str], cwd: str) -> _ForkedKernel | None:
-        """Ask the template for a kernel; ``None`` when it cannot give one (start it the usual way then)."""
+    def launch(self, cmd: list[str], env: dict[str, str], cwd: str,
+               streams: dict[str, int] | None = None) -> _ForkedKernel | None:
+        """Ask the template for a kernel; ``None`` when it cannot give one (start it the usual way then).
+
+        ``streams`` gives the kernel's ``stdout`` and ``stderr`` as open file descriptors, as they would be handed to
+        ``Popen`` (jupyter_client passes them through; nbval sends the kernel's errors to ``os.devnull``); the others
+        are the template's, which are the server's.
+        """
         if not self.ready():
             return None
+        names = sorted(streams or {})
         channel = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
         try:
             channel.settimeout(10.0)
             channel.connect(self.address or "")
-            channel.sendall((json.dumps({"cmd": cmd, "env": env, "cwd": cwd}) + "\n").encode("utf-8"))
+            request = (json.dumps({"cmd": cmd, "env": env, "cwd": cwd, "streams": names}) + "\n").encode("utf-8")
+            sent = socket.send_fds(channel, [request[:1]], [(streams or {})[n] for n in names]) if names else 0
+            channel.sendall(request[sent:])
             received = b""
             while b"\n" not in received:
                 data = channel.recv(4096)
@@ -427,20 +441,29 @@ def _reap(children: dict[int, socket.socket]) -> None:
             channel.close()
 
 
-def _read_request(channel: socket.socket) -> dict[str, Any]:
+def _read_request(channel: socket.socket) -> tuple[dict[str, Any], list[int]]:
+    """A kernel request and the file descriptors that came with it (the kernel's output streams)."""
     channel.settimeout(10.0)
-    data = b""
-    while not data.endswith(b"\n"):
-        chunk = channel.recv(65536)
-        if not chunk:
-            raise ValueError("the request ended early")
-        data += chunk
-        if len(data) > 4_000_000:
-            raise ValueError("the request is too long")
-    request = json.loads(data)
-    if not isinstance(request, dict):
-        raise ValueError("the request is not an object")
-    return request
+    data, fds, _, _ = socket.recv_fds(channel, 65536, 2)
+    try:
+        while not data.endswith(b"\n"):
+            chunk = channel.recv(65536)
+            if not chunk:
+                raise ValueError("the request ended early")
+            data += chunk
+            if len(data) > 4_000_000:
+                raise ValueError("the request is too long")
+        request = json.loads(data)
+        if not isinstance(request, dict):
+            raise ValueError("the request is not an object")
+        streams = request.get("streams", [])
+        if not (isinstance(streams, list) and len(streams) == len(fds) and set(streams) <= {"stdout", "stderr"}):
+            raise ValueError("the request's output streams do not match what came with it")
+    except BaseException:
+        for fd in fds:
+            os.close(fd)
+        raise
+    return request, list(fds)
 
 
 def serve(address: str, flags: list[str]) -> None:
@@ -483,7 +506,7 @@ def serve(address: str, flags: list[str]) -> None:
         if accepting and listener in readable:
             channel, _ = listener.accept()
             try:
-                request = _read_request(channel)
+                request, fds = _read_request(channel)
             except (OSError, ValueError) as exc:
                 with contextlib.suppress(OSError):
                     channel.sendall((json.dumps({"refused": str(exc)}) + "\n").encode("utf-8"))
@@ -492,6 +515,8 @@ def serve(address: str, flags: list[str]) -> None:
             changed = _changed(files)
             refusal = _refusal(request, executable, flags, startup)
             if changed or refusal:
+                for fd in fds:
+                    os.close(fd)
                 answer = {"refused": refusal or f"{changed} changed since the template read it", "stale": bool(changed)}
                 with contextlib.suppress(OSError):
                     channel.sendall((json.dumps(answer) + "\n").encode("utf-8"))
@@ -510,7 +535,12 @@ def serve(address: str, flags: list[str]) -> None:
                 channel.close()
                 os.close(wake_r)
                 os.close(wake_w)
+                for name, fd in zip(request.get("streams", []), fds, strict=True):
+                    os.dup2(fd, 1 if name == "stdout" else 2)
+                    os.close(fd)
                 _kernel_main(request)
+            for fd in fds:
+                os.close(fd)
             children[pid] = channel
             with contextlib.suppress(OSError):
                 channel.sendall((json.dumps({"pid": pid}) + "\n").encode("utf-8"))

@@ -509,7 +509,8 @@ def planned_runs(root: Path, env: dict[str, str]) -> list[tuple[str, list[str], 
     notebooks = sorted(str(p.relative_to(root)) for p in (root / "notebooks").glob("[0-9][0-9]_*.ipynb"))
     lax = [n for n in notebooks if n in _withheld_notebooks(root)]
     exact = [n for n in notebooks if n not in lax]
-    exercises_env = {**env, "RRBOT_WORKSHOP_TRACK": "exercises"}
+    # kernels forked from a template, as a learner's on Linux; the solutions track's start as new processes
+    exercises_env = {**env, "RRBOT_WORKSHOP_TRACK": "exercises", PROVISIONER_ENV: FORKED_KERNELS}
     # the stored outputs are what a learner sees on the untouched exercises: compared exactly
     runs = [("library, graders and notebooks (exercises, compared)", ["--nbval", "tests/unit", *exact], exercises_env)]
     if lax:
@@ -520,6 +521,9 @@ def planned_runs(root: Path, env: dict[str, str]) -> list[tuple[str, list[str], 
                      ["--nbval-lax", *_longest_first(root, notebooks)], {**env, "RRBOT_WORKSHOP_TRACK": "solutions"}))
     return runs
 
+
+#: Jupyter's variable naming the provisioner of kernels, and the course's (classroom/kernels.py; a test checks the name)
+PROVISIONER_ENV, FORKED_KERNELS = "JUPYTER_DEFAULT_PROVISIONER_NAME", "rrbot-workshop-forked"
 
 #: Folders the processes of a whole test command share work through: xacro expansions, each checked against the files
 #: it read before it is used (``rrbot_workshop.description.xacro_cache.SHARED_ENV``), and grader files as pytest

@@ -28,21 +28,21 @@ pytestmark = pytest.mark.skipif(sys.platform != "linux", reason="kernels are for
 FLAGS = ["-Xfrozen_modules=off"]  # ipykernel's own kernel's Python options
 
 
-def _manager(provisioner: str) -> Any:
-    from jupyter_client import KernelManager
-    from jupyter_client.provisioning import KernelProvisionerFactory
-
-    KernelProvisionerFactory.instance().default_provisioner_name = provisioner
-    return KernelManager(kernel_name="python3")
-
-
 class Kernel:
     """A kernel started as a server starts one, and a client to it."""
 
     def __init__(self, cwd: Path, env: dict[str, str] | None = None,
-                 provisioner: str = kernels.PROVISIONER_NAME) -> None:
-        self.manager = _manager(provisioner)
-        self.manager.start_kernel(cwd=str(cwd), env={**os.environ, **(env or {})})
+                 provisioner: str = kernels.PROVISIONER_NAME, **start: Any) -> None:
+        from jupyter_client import KernelManager
+        from jupyter_client.provisioning import KernelProvisionerFactory
+
+        factory = KernelProvisionerFactory.instance()  # the provisioner is chosen when the kernel starts
+        default, factory.default_provisioner_name = factory.default_provisioner_name, provisioner
+        try:
+            self.manager = KernelManager(kernel_name="python3")
+            self.manager.start_kernel(cwd=str(cwd), env={**os.environ, **(env or {})}, **start)
+        finally:
+            factory.default_provisioner_name = default
         self.client = self.manager.client()
         self.client.start_channels()
         self.client.wait_for_ready(timeout=60)
@@ -153,6 +153,19 @@ def test_interrupt_restart_and_shutdown_reach_the_forked_kernel(template: Any, t
         last = kernel.pid
         kernel.stop()
     assert _wait_gone(last)
+
+
+def test_the_kernels_output_streams_given_as_to_popen_are_its_own(template: Any, tmp_path: Path) -> None:
+    """nbval, for one, starts its kernels with ``stderr=open(os.devnull, "w")``."""
+    errors = tmp_path / "errors.txt"
+    with errors.open("w") as stream:
+        kernel = Kernel(tmp_path, stderr=stream)
+    try:
+        assert kernel.forked
+        kernel.value("os.write(2, b'to the stream given\\n')", "import os")
+    finally:
+        kernel.stop()
+    assert "to the stream given" in errors.read_text()
 
 
 def test_a_kernel_that_exits_is_seen_to_have_exited_with_its_status(template: Any, tmp_path: Path) -> None:

@@ -121,6 +121,29 @@ def test_the_test_command_compares_the_notebooks_on_the_exercises_and_runs_them_
                                                    ("--nbval-lax", "notebooks/02_b.ipynb")]
 
 
+def test_the_compared_notebooks_run_in_forked_kernels_and_the_solutions_track_in_new_processes(tmp_path: Path) -> None:
+    """The launcher names the course's kernel provisioner itself: the name of its entry point; the exercises' run (the
+    notebooks compared) gives it to Jupyter, the solutions track's run does not, so both ways of starting a kernel run
+    every notebook."""
+    from importlib.metadata import entry_points
+
+    from rrbot_workshop.classroom import kernels
+    from rrbot_workshop.classroom.launcher import FORKED_KERNELS, PROVISIONER_ENV, planned_runs
+
+    assert FORKED_KERNELS == kernels.PROVISIONER_NAME
+    assert FORKED_KERNELS in {e.name for e in entry_points(group="jupyter_client.kernel_provisioners")}
+    from jupyter_client.provisioning.factory import KernelProvisionerFactory
+
+    assert PROVISIONER_ENV == KernelProvisionerFactory.default_provisioner_name_env
+    course = tmp_path / "course"
+    (course / "notebooks").mkdir(parents=True)
+    (course / "solutions").mkdir()
+    (course / "notebooks" / "01_a.ipynb").write_text("{}")
+    runs = planned_runs(course, {})
+    assert runs[0][2][PROVISIONER_ENV] == FORKED_KERNELS
+    assert all(PROVISIONER_ENV not in env for what, _, env in runs if "solutions" in what)
+
+
 def test_the_test_command_counts_what_every_run_tested(tmp_path: Path) -> None:
     """The counts printed at the end come from each run's JUnit report; a run that wrote none counts nothing."""
     from rrbot_workshop.classroom.launcher import _tally
