@@ -7,6 +7,7 @@ test starts a real Jupyter server with those arguments.
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 import signal
@@ -66,16 +67,28 @@ class Kernel:
         self.manager.shutdown_kernel(now=True)
 
 
+@contextlib.contextmanager
+def _own_template(flags: list[str] = FLAGS) -> Iterator[Any]:
+    """A template of the test's own, the one the provisioner asks while the block runs (another test, or nbval in the
+    same worker, may have started this process's template, for another kernel's options)."""
+    handle, kept = kernels._Template(), kernels._TEMPLATE
+    kernels._TEMPLATE = handle
+    try:
+        assert handle.start(flags)
+        deadline = time.monotonic() + 120
+        while not handle.ready():
+            assert time.monotonic() < deadline and handle.started(), "the template did not start"
+            time.sleep(0.05)
+        yield handle
+    finally:
+        handle.stop()
+        kernels._TEMPLATE = kept
+
+
 @pytest.fixture(scope="module")
 def template() -> Iterator[Any]:
-    handle = kernels.template()
-    assert handle.start(FLAGS)
-    deadline = time.monotonic() + 120
-    while not handle.ready():
-        assert time.monotonic() < deadline, "the template did not start"
-        time.sleep(0.05)
-    yield handle
-    handle.stop()
+    with _own_template() as handle:
+        yield handle
 
 
 def _alive(pid: int) -> bool:
@@ -203,36 +216,27 @@ def test_a_changed_preloaded_file_retires_the_template_after_its_kernels(tmp_pat
     env = {"PYTHONPATH": str(site)}
     saved = {k: os.environ.get(k) for k in env}
     os.environ.update(env)
-    handle = kernels._Template()
-    old_template = kernels._TEMPLATE
-    kernels._TEMPLATE = handle
     try:
-        handle.start(FLAGS)
-        deadline = time.monotonic() + 120
-        while not handle.ready():
-            assert time.monotonic() < deadline
-            time.sleep(0.05)
-        first_template = handle._process
-        early = Kernel(tmp_path)
-        assert early.forked and early.value("sitecustomize.VALUE", "import sitecustomize") == 1
-        module.write_text("VALUE = 2\n")
-        late = Kernel(tmp_path)
-        assert not late.forked and late.value("sitecustomize.VALUE", "import sitecustomize") == 2
-        assert early.value("6 * 7") == 42  # the retired template still keeps its kernel
-        assert first_template is not None and first_template.poll() is None
-        early.stop()
-        late.stop()
-        first_template.wait(timeout=30)  # ...and ends after it
-        deadline = time.monotonic() + 120
-        while not handle.ready():
-            assert time.monotonic() < deadline
-            time.sleep(0.05)
-        newest = Kernel(tmp_path)
-        assert newest.forked and newest.value("sitecustomize.VALUE", "import sitecustomize") == 2
-        newest.stop()
+        with _own_template() as handle:
+            first_template = handle._process
+            early = Kernel(tmp_path)
+            assert early.forked and early.value("sitecustomize.VALUE", "import sitecustomize") == 1
+            module.write_text("VALUE = 2\n")
+            late = Kernel(tmp_path)
+            assert not late.forked and late.value("sitecustomize.VALUE", "import sitecustomize") == 2
+            assert early.value("6 * 7") == 42  # the retired template still keeps its kernel
+            assert first_template is not None and first_template.poll() is None
+            early.stop()
+            late.stop()
+            first_template.wait(timeout=30)  # ...and ends after it
+            deadline = time.monotonic() + 120
+            while not handle.ready():
+                assert time.monotonic() < deadline
+                time.sleep(0.05)
+            newest = Kernel(tmp_path)
+            assert newest.forked and newest.value("sitecustomize.VALUE", "import sitecustomize") == 2
+            newest.stop()
     finally:
-        handle.stop()
-        kernels._TEMPLATE = old_template
         for key, value in saved.items():
             if value is None:
                 os.environ.pop(key, None)
@@ -241,15 +245,7 @@ def test_a_changed_preloaded_file_retires_the_template_after_its_kernels(tmp_pat
 
 
 def test_kernels_end_when_the_template_ends(tmp_path: Path) -> None:
-    handle = kernels._Template()
-    old_template = kernels._TEMPLATE
-    kernels._TEMPLATE = handle
-    try:
-        handle.start(FLAGS)
-        deadline = time.monotonic() + 120
-        while not handle.ready():
-            assert time.monotonic() < deadline
-            time.sleep(0.05)
+    with _own_template() as handle:
         kernel = Kernel(tmp_path)
         assert kernel.forked
         pid = kernel.pid
@@ -257,9 +253,6 @@ def test_kernels_end_when_the_template_ends(tmp_path: Path) -> None:
         assert _wait_gone(pid)
         assert kernel.manager.provisioner.process.poll() is not None
         kernel.client.stop_channels()
-    finally:
-        handle.stop()
-        kernels._TEMPLATE = old_template
 
 
 def _children(pid: int) -> list[int]:
