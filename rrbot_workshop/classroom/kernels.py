@@ -55,12 +55,13 @@ __all__ = ["KERNEL_PRELOAD", "FORK_ENV", "PROVISIONER_NAME", "EXTENSION", "serve
 logger = logging.getLogger(__name__)
 
 #: What the template imports once: the kernel's own machinery, then what the notebooks' first cells and the 3D
-#: viewer import (each that imports; matplotlib with the backend a kernel sets, see :func:`_kernel_main`).
+#: viewer import (each that imports; matplotlib with the backend a kernel sets, see :func:`_as_new_process`). Not the
+#: inline backend's module: imported outside an IPython session, it would leave a kernel's figures undisplayed.
 KERNEL_PRELOAD = (
     "ipykernel.kernelapp", "ipykernel.ipkernel", "ipykernel.zmqshell", "ipykernel.debugger", "IPython",
     "numpy", "yaml", "lxml.etree", "xacro", "rrbot_workshop", "rrbot_workshop.course.magics", "rrbot_workshop.bringup",
     "rrbot_workshop.controllers", "rrbot_workshop.hardware", "rrbot_workshop.description", "rrbot_workshop.viz",
-    "yourdfpy", "trimesh", "meshcat", "matplotlib", "matplotlib.pyplot", "matplotlib_inline.backend_inline",
+    "yourdfpy", "trimesh", "meshcat", "matplotlib", "matplotlib.pyplot",
     "ipywidgets",
 )
 #: Preloaded for what they import, then forgotten: their classes read the environment when the module runs (ipykernel's

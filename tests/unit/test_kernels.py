@@ -62,6 +62,13 @@ class Kernel:
         assert reply["content"]["status"] == "ok", reply["content"]
         return json.loads(__import__("ast").literal_eval(reply["content"]["user_expressions"]["v"]["data"]["text/plain"]))
 
+    def outputs(self, code: str) -> list[tuple[str, str, list[str]]]:
+        """What running ``code`` sends: each message's type, its stream or its ``data``'s media types."""
+        seen: list[dict[str, Any]] = []
+        self.client.execute_interactive(code, timeout=60, output_hook=seen.append)
+        return [(m["msg_type"], m["content"].get("name", ""), sorted(m["content"].get("data", {})))
+                for m in seen if m["msg_type"] not in ("status", "execute_input")]
+
     def stop(self) -> None:
         self.client.stop_channels()
         self.manager.shutdown_kernel(now=True)
@@ -142,6 +149,27 @@ def test_kernels_get_fresh_random_states_and_a_new_process_has_the_same_sys_path
         assert plain.value("sys.path", "import sys") == path
     finally:
         plain.stop()
+
+
+CELLS = [  # what notebooks do that a kernel's start decides: figures inline, warnings shown, printed output
+    "import matplotlib.pyplot as plt\nplt.plot([1, 2, 3]);",
+    "import matplotlib.pyplot as plt\nfig, ax = plt.subplots()\nax.plot([3, 1])\nplt.show()",
+    "import warnings\nwarnings.warn('a learner should see this')",
+    "print('printed')\n6 * 7",
+    "%load_ext rrbot_workshop",
+]
+
+
+def test_a_forked_kernel_sends_what_a_new_process_sends(template: Any, tmp_path: Path) -> None:
+    kernels_both = [Kernel(tmp_path), Kernel(tmp_path, provisioner="local-provisioner")]
+    try:
+        assert [k.forked for k in kernels_both] == [True, False]
+        forked, plain = ([k.outputs(cell) for cell in CELLS] for k in kernels_both)
+        assert ("display_data", "", ["image/png", "text/plain"]) in forked[0], forked[0]
+        assert forked == plain
+    finally:
+        for kernel in kernels_both:
+            kernel.stop()
 
 
 def test_interrupt_restart_and_shutdown_reach_the_forked_kernel(template: Any, tmp_path: Path) -> None:
