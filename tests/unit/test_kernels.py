@@ -291,7 +291,8 @@ def _children(pid: int) -> list[int]:
 
 
 @pytest.mark.skipif(not Path("/proc/self/task").is_dir(), reason="reads the process tree from /proc")
-def test_a_jupyter_server_started_with_the_courses_arguments_forks_its_kernels(tmp_path: Path) -> None:
+def test_a_jupyter_server_started_with_the_courses_arguments_forks_its_kernels_and_restarts_them_on_new_ports(
+        tmp_path: Path) -> None:
     with socket.socket() as probe:
         probe.bind(("127.0.0.1", 0))
         port = probe.getsockname()[1]
@@ -317,6 +318,26 @@ def test_a_jupyter_server_started_with_the_courses_arguments_forks_its_kernels(t
         kernel_id = json.load(urllib.request.urlopen(request, timeout=60))["id"]
         kernel_pids = _children(template_pid)
         assert len(kernel_pids) == 1, "the kernel is not the template's child"
+        # another server's kernel takes this kernel's port as it dies (a room's port race): it comes back on new ports
+        connection = tmp_path / f"kernel-{kernel_id}.json"
+        shell_port = json.loads(connection.read_text())["shell_port"]
+        with socket.socket() as taken:
+            os.kill(kernel_pids[0], signal.SIGKILL)
+            assert _wait_gone(kernel_pids[0])
+            taken.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+            taken.bind(("127.0.0.1", shell_port))
+            taken.listen()
+            deadline = time.monotonic() + 120
+            while not (_children(template_pid) and connection.is_file()
+                       and json.loads(connection.read_text())["shell_port"] != shell_port):
+                assert time.monotonic() < deadline, "the kernel did not come back on new ports"
+                time.sleep(0.2)
+            time.sleep(5.0)  # past the restarter's next check: the new kernel stays up
+            state = json.load(urllib.request.urlopen(urllib.request.Request(f"{url}/{kernel_id}", headers=headers),
+                                                     timeout=60))["execution_state"]
+            assert state in ("idle", "busy", "starting"), state
+            kernel_pids = _children(template_pid)
+            assert len(kernel_pids) == 1
         urllib.request.urlopen(urllib.request.Request(f"{url}/{kernel_id}", headers=headers, method="DELETE"),
                                timeout=60)
         assert _wait_gone(kernel_pids[0])
