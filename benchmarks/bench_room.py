@@ -172,6 +172,7 @@ def room_of(n: int, arrival: float = 0.0, warm: bool = False, unix_users: bool =
     return {"learners": n, "arrival_s": arrival, "warm": warm, "unix_users": unix_users, **warm_figures,
             "first_result_s (median / max)": both(firsts),
             "cpu_s_per_learner (median / max)": both(cpu, 2),
+            "cpu_s_per_learner, above 4": sorted(round(c, 2) for c in cpu if c > 4.0),
             "of which hub, proxy, live view": round(shared_cpu, 2),
             "rss_mib_per_learner (median / max)": both(rss, 0),
             "pss_mib_per_learner (median / max)": both(pss, 0),

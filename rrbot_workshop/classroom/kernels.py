@@ -3,8 +3,8 @@
 A learner's first minute on a hub goes largely to new Python processes importing things: the kernel's own start (ipykernel,
 IPython, zmq), then notebook 02's imports (numpy, the library, xacro, lxml, matplotlib) and the 3D viewer's
 kinematics (yourdfpy imports trimesh, and trimesh much of scipy and networkx). Measured with
-``benchmarks/bench_room.py``, that was 2.4 of the 5.35 CPU-seconds from a learner's login to their first graded result
-(the difference this module makes), and 30 learners paid it in the same minute.
+``benchmarks/bench_room.py``, that was about 2 of the 5.35 CPU-seconds from a learner's login to their first graded
+result (the difference this module makes), and 30 learners paid it in the same minute.
 
 So a learner's Jupyter server (on a hub, and ``./workshop start`` on Linux) starts a *template* beside itself when it
 starts, before anybody opens a notebook: a Python that imports :data:`KERNEL_PRELOAD` once and waits on a socket in a
