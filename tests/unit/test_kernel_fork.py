@@ -93,8 +93,14 @@ class Kernel:
     def value(self, expression: str, timeout: float = 300.0) -> Any:
         """``expression`` evaluated in the kernel, read from the execute reply (its ``user_expressions``), not from
         printed output: after an interrupt, a print's stream message may reach the client after the reply."""
-        reply = self.client.execute_interactive("", timeout=timeout, user_expressions={
-            "value": f"__import__('json').dumps({expression})"})
+        for _ in range(50):  # bounded: ipykernel aborts requests that reach it just after an error (an interrupt)
+            reply = self.client.execute_interactive("", timeout=timeout, user_expressions={
+                "value": f"__import__('json').dumps({expression})"})
+            if reply["content"]["status"] != "aborted":
+                break
+            time.sleep(0.1)
+        if "user_expressions" not in reply["content"]:
+            raise AssertionError(f"{expression} was not evaluated: {reply['content']}")
         found = reply["content"]["user_expressions"]["value"]
         if found["status"] != "ok":
             raise AssertionError(f"{expression} raised {found.get('ename')}: {found.get('evalue')}")
