@@ -241,8 +241,7 @@ class _Template:
 
     def starting(self) -> bool:
         """Whether the template runs but still imports (its socket is not there yet)."""
-        process = self._process
-        return process is not None and process.poll() is None and not self.ready()
+        return self.started() and not self.ready()
 
     def stop(self) -> None:
         """End the template, and retired ones (closing its input ends it; its kernels end with it)."""
@@ -423,15 +422,24 @@ def _as_new_process(env: dict[str, str]) -> None:
 def _preload() -> None:
     import importlib
 
+    given = os.environ.get("MPLBACKEND")
     os.environ.setdefault("MPLBACKEND", INLINE_BACKEND)  # matplotlib takes its backend when imported
     for name in KERNEL_PRELOAD:
         with contextlib.suppress(Exception):
             importlib.import_module(name)
+    if given is None:  # the template's environment as it was given (a kernel gets its own, see _kernel_main)
+        del os.environ["MPLBACKEND"]
     for name in FRESH:
         sys.modules.pop(name, None)
         package, _, attribute = name.rpartition(".")
         with contextlib.suppress(AttributeError, KeyError):
             delattr(sys.modules[package], attribute)
+
+
+def _answer(channel: socket.socket, message: dict[str, Any]) -> None:
+    """Send ``message`` to the server as one JSON line (the server may have given up on it: then nobody reads it)."""
+    with contextlib.suppress(OSError):
+        channel.sendall((json.dumps(message) + "\n").encode("utf-8"))
 
 
 def _reap(children: dict[int, socket.socket]) -> None:
@@ -444,8 +452,7 @@ def _reap(children: dict[int, socket.socket]) -> None:
             return
         channel = children.pop(pid, None)
         if channel is not None:
-            with contextlib.suppress(OSError):
-                channel.sendall((json.dumps({"exit": os.waitstatus_to_exitcode(status)}) + "\n").encode("utf-8"))
+            _answer(channel, {"exit": os.waitstatus_to_exitcode(status)})
             channel.close()
 
 
@@ -479,10 +486,7 @@ def serve(address: str, flags: list[str]) -> None:
     standard input closes (the server ended) or, once a preloaded file changed, when its last kernel has ended."""
     executable = os.path.abspath(sys.executable)
     startup = _startup(os.environ)
-    mpl_was_set = "MPLBACKEND" in os.environ
     _preload()
-    if not mpl_was_set:
-        os.environ.pop("MPLBACKEND", None)
     files = _fingerprint()
     import gc
 
@@ -516,8 +520,7 @@ def serve(address: str, flags: list[str]) -> None:
             try:
                 request, fds = _read_request(channel)
             except (OSError, ValueError) as exc:
-                with contextlib.suppress(OSError):
-                    channel.sendall((json.dumps({"refused": str(exc)}) + "\n").encode("utf-8"))
+                _answer(channel, {"refused": str(exc)})
                 channel.close()
                 continue
             changed = _changed(files)
@@ -525,9 +528,8 @@ def serve(address: str, flags: list[str]) -> None:
             if changed or refusal:
                 for fd in fds:
                     os.close(fd)
-                answer = {"refused": refusal or f"{changed} changed since the template read it", "stale": bool(changed)}
-                with contextlib.suppress(OSError):
-                    channel.sendall((json.dumps(answer) + "\n").encode("utf-8"))
+                _answer(channel, {"refused": refusal or f"{changed} changed since the template read it",
+                                  "stale": bool(changed)})
                 channel.close()
                 if changed:
                     accepting = False
@@ -550,8 +552,7 @@ def serve(address: str, flags: list[str]) -> None:
             for fd in fds:
                 os.close(fd)
             children[pid] = channel
-            with contextlib.suppress(OSError):
-                channel.sendall((json.dumps({"pid": pid}) + "\n").encode("utf-8"))
+            _answer(channel, {"pid": pid})
     with contextlib.suppress(OSError):
         os.unlink(address)
     with contextlib.suppress(OSError):

@@ -98,17 +98,9 @@ def template() -> Iterator[Any]:
         yield handle
 
 
-def _alive(pid: int) -> bool:
-    try:
-        os.kill(pid, 0)
-    except ProcessLookupError:
-        return False
-    return Path(f"/proc/{pid}/stat").read_text().split(")")[-1].split()[0] != "Z" if Path("/proc").is_dir() else True
-
-
 def _wait_gone(pid: int, limit: float = 30.0) -> bool:
     deadline = time.monotonic() + limit
-    while _alive(pid):
+    while kernels._alive(pid):
         if time.monotonic() > deadline:
             return False
         time.sleep(0.1)
